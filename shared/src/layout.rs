@@ -1,0 +1,58 @@
+//! How chain state and results sit in device buffers.
+//!
+//! - **SoA (seed §5.1):** variable i of chain p is stored at `p + i·N` (N chains), so the
+//!   threads of a warp, which handle neighbouring chains, read neighbouring words.
+//! - **Packed contribution (seed §5.3):** a candidate's result is one `float4`: the rgb
+//!   contribution times its weight in xyz, and the pixel index stored as the *bits* of w
+//!   (`__int_as_float`), so one 16-byte access carries both. A candidate that lands on no
+//!   pixel stores [`NO_PIXEL`].
+
+use glam::{Vec3, Vec4};
+
+/// Pixel index of a contribution that lands on no pixel.
+pub const NO_PIXEL: u32 = u32::MAX;
+
+/// Position of variable `variable` of chain `chain` among `chains` chains: `p + i·N`.
+#[inline]
+pub fn soa_index(chain: u32, variable: u32, chains: u32) -> usize {
+    chain as usize + variable as usize * chains as usize
+}
+
+/// Packs `rgb · weight` and the pixel index (as the bits of the fourth float) into one Vec4.
+#[inline]
+pub fn pack_contribution(rgb: Vec3, weight: f32, pixel: u32) -> Vec4 {
+    (rgb * weight).extend(f32::from_bits(pixel))
+}
+
+/// The inverse of [`pack_contribution`]: (rgb · weight, pixel index).
+#[inline]
+pub fn unpack_contribution(packed: Vec4) -> (Vec3, u32) {
+    (packed.truncate(), packed.w.to_bits())
+}
+
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn soa_index_is_chain_plus_variable_times_chains() {
+        assert_eq!(soa_index(0, 0, 7), 0);
+        assert_eq!(soa_index(3, 0, 7), 3);
+        assert_eq!(soa_index(3, 2, 7), 17);
+        // Neighbouring chains, same variable: neighbouring words.
+        assert_eq!(soa_index(4, 5, 1000) - soa_index(3, 5, 1000), 1);
+        assert_eq!(soa_index(u32::MAX, 1, u32::MAX), 2 * u32::MAX as usize);
+    }
+
+    /// Every pixel index survives the trip through a float's bits, the ones that are
+    /// denormals (below 2^23) and NaN patterns (NO_PIXEL) included.
+    #[test]
+    fn packing_round_trips_every_kind_of_index() {
+        for pixel in [0u32, 1, 7, (1 << 23) - 1, 1 << 23, 1920 * 1080 - 1, 0x7f80_0001, NO_PIXEL] {
+            let rgb = Vec3::new(0.5, 2.0, 1e-3);
+            let (back, p) = unpack_contribution(pack_contribution(rgb, 0.25, pixel));
+            assert_eq!(p, pixel);
+            assert_eq!(back, rgb * 0.25);
+        }
+    }
+}

@@ -1,0 +1,25 @@
+//! Everything smlt computes, written once and compiled twice: for the host (std, unit tests,
+//! `--device cpu`) and for SPIR-V (rust-gpu kernels). Structs that cross the host/device
+//! boundary are `#[repr(C)]` and `bytemuck::Pod`; every formula from the paper is one
+//! documented function with its tests beside it.
+//!
+//! One concept a file:
+//! - [`rng`]: the counter-based random numbers, keyed by (seed, chain, iteration, dimension);
+//! - [`mutation`]: Kelemen et al.'s small and large steps in primary sample space;
+//! - [`acceptance`]: the Metropolis–Hastings acceptance `a(y|x) = min(1, c(y)/c(x))`;
+//! - [`discrete`]: drawing an index in proportion to weights;
+//! - [`tree`]: the speculative mutation tree (seed §4, Eq. 2 and Eq. 3 generalised);
+//! - [`reject_chain`]: the reject chain of Byrd et al. (seed §3.3);
+//! - [`layout`]: SoA indexing and the packed `float4` contribution.
+#![cfg_attr(target_arch = "spirv", no_std)]
+#![deny(missing_docs)]
+
+pub mod acceptance;
+pub mod discrete;
+pub mod layout;
+pub mod mutation;
+pub mod reject_chain;
+pub mod rng;
+pub mod tree;
+
+pub use glam;

@@ -1,0 +1,140 @@
+//! Kelemen et al., "A simple and robust mutation strategy for the Metropolis light transport
+//! algorithm" (2002): mutations of the primary sample vector u ∈ [0,1)^D.
+//!
+//! - **Small step**, per coordinate: `u' = u ± s2 · exp(−ln(s2/s1) · ξ)`, wrapped into [0, 1).
+//!   The offset's magnitude lies in (s1, s2] and is log-uniform there, the sign is a fair coin;
+//!   the offset does not depend on u, so the proposal is symmetric.
+//! - **Large step**: every coordinate a fresh uniform (an independent sample), chosen with
+//!   probability `p_large`. In the speculative tree only the level-1 mutation may be large.
+//!
+//! Because a small step is an offset that does not depend on the state, one draw of offsets
+//! per tree level can be applied to every candidate of that level (seed §5.1): the candidates
+//! of one chain then differ only by the subset of earlier offsets they accumulated, which is
+//! what keeps them close in primary space and their paths coherent.
+
+#[cfg(target_arch = "spirv")]
+use spirv_std::num_traits::Float;
+
+/// Parameters of the mutation schedule (uploaded to the device as they are).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct MutationParams {
+    /// Smallest small-step offset (Kelemen's s1; default 1/1024).
+    pub s1: f32,
+    /// Largest small-step offset (Kelemen's s2; default 1/64).
+    pub s2: f32,
+    /// Probability that the level-1 mutation of an iteration is a large step (default 0.3).
+    pub p_large: f32,
+    /// Padding to 16 bytes.
+    pub _pad: f32,
+}
+
+impl Default for MutationParams {
+    fn default() -> Self {
+        Self { s1: 1.0 / 1024.0, s2: 1.0 / 64.0, p_large: 0.3, _pad: 0.0 }
+    }
+}
+
+/// The signed small-step offset for one uniform `xi` ∈ [0, 1): the lower half of [0, 1)
+/// gives a positive offset, the upper half a negative one, and the position inside the half
+/// (rescaled to [0, 1)) sets the magnitude `s2 · exp(−ln(s2/s1) · ξ')` ∈ (s1, s2].
+#[inline]
+pub fn small_step_offset(xi: f32, s1: f32, s2: f32) -> f32 {
+    let (sign, t) = if xi < 0.5 { (1.0, 2.0 * xi) } else { (-1.0, 2.0 * xi - 1.0) };
+    sign * s2 * (-(s2 / s1).ln() * t).exp()
+}
+
+/// Wraps `v` ∈ (−1, 2) into [0, 1). A value that rounds to 1.0 after wrapping is the same
+/// point of the torus as 0.0 and is returned as 0.0, so the result is never 1.
+#[inline]
+pub fn wrap_unit(v: f32) -> f32 {
+    let w = if v >= 1.0 {
+        v - 1.0
+    } else if v < 0.0 {
+        v + 1.0
+    } else {
+        v
+    };
+    if w >= 1.0 || w < 0.0 {
+        0.0
+    } else {
+        w
+    }
+}
+
+/// One small step of one coordinate: `wrap(u + offset)`.
+#[inline]
+pub fn small_step(u: f32, offset: f32) -> f32 {
+    wrap_unit(u + offset)
+}
+
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn offsets_lie_between_s1_and_s2_with_both_signs() {
+        let p = MutationParams::default();
+        let (mut pos, mut neg) = (0, 0);
+        for i in 0..10_000 {
+            let xi = i as f32 / 10_000.0;
+            let o = small_step_offset(xi, p.s1, p.s2);
+            assert!(o.abs() <= p.s2 * (1.0 + 1e-6), "{o}");
+            assert!(o.abs() >= p.s1 * (1.0 - 1e-5), "{o}");
+            if o > 0.0 {
+                pos += 1
+            } else {
+                neg += 1
+            }
+        }
+        assert_eq!(pos, 5000);
+        assert_eq!(neg, 5000);
+        assert_eq!(small_step_offset(0.0, p.s1, p.s2), p.s2);
+        assert_eq!(small_step_offset(0.5, p.s1, p.s2), -p.s2);
+    }
+
+    /// The magnitude is log-uniform on [s1, s2]: ln|offset| is uniform on [ln s1, ln s2].
+    #[test]
+    fn magnitude_is_log_uniform() {
+        let p = MutationParams::default();
+        let n = 100_000;
+        let mut bins = [0u32; 10];
+        let (ls1, ls2) = (p.s1.ln(), p.s2.ln());
+        for i in 0..n {
+            let xi =
+                crate::rng::uniform(crate::rng::RngKey { seed: 3, chain: i, iteration: 0, dimension: 0 });
+            let t = (small_step_offset(xi, p.s1, p.s2).abs().ln() - ls1) / (ls2 - ls1);
+            bins[((t * 10.0) as usize).min(9)] += 1;
+        }
+        for b in bins {
+            assert!((b as f64 - 10_000.0).abs() < 5.0 * 100.0, "{bins:?}");
+        }
+    }
+
+    #[test]
+    fn wrap_unit_returns_the_half_open_interval() {
+        assert_eq!(wrap_unit(0.25), 0.25);
+        assert_eq!(wrap_unit(1.25), 0.25);
+        assert_eq!(wrap_unit(-0.25), 0.75);
+        assert_eq!(wrap_unit(1.0), 0.0);
+        assert_eq!(wrap_unit(0.0), 0.0);
+        // -1e-10 + 1 rounds to 1.0 in f32: the same torus point as 0.
+        assert_eq!(wrap_unit(-1e-10), 0.0);
+        let below_one = 1.0 - f32::EPSILON / 2.0;
+        assert_eq!(wrap_unit(below_one), below_one);
+    }
+
+    /// A small step followed by the opposite small step returns (within rounding) to the start:
+    /// the proposal is symmetric.
+    #[test]
+    fn small_steps_are_symmetric() {
+        let p = MutationParams::default();
+        for i in 0..1000 {
+            let u = i as f32 / 1000.0;
+            let o = small_step_offset((i as f32 * 0.618_034) % 1.0, p.s1, p.s2);
+            let back = small_step(small_step(u, o), -o);
+            let d = (back - u).abs();
+            assert!(d < 1e-6 || (1.0 - d) < 1e-6, "u = {u}, back = {back}");
+        }
+    }
+}
