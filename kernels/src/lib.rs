@@ -1,14 +1,15 @@
+//! smlt's compute kernels. Each pass is one file: an ordinary Rust function over slices and an
+//! invocation index (the body, which the host also runs on CPU threads for `--device cpu` and
+//! for the GPU-vs-CPU difftests), and a thin `#[spirv(compute)]` entry point `<pass>_cs` that
+//! only unpacks the bindings and calls it. All math lives in the `shared` crate.
 #![cfg_attr(target_arch = "spirv", no_std)]
-use spirv_std::spirv;
-use spirv_std::glam::UVec3;
+#![deny(missing_docs)]
 
-#[spirv(compute(threads(64)))]
-pub fn probe_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] out: &mut [u32],
-) {
-    let i = id.x as usize;
-    if i < out.len() {
-        out[i] = i as u32 * 3;
-    }
-}
+pub mod selftest;
+
+/// Threads per workgroup of every 1-D kernel.
+pub const WORKGROUP_SIZE: u32 = 64;
+
+/// Every entry point of the module, for the host to declare when it hands the SPIR-V to the
+/// driver unchanged.
+pub const ENTRY_POINTS: &[&str] = &["selftest_cs"];

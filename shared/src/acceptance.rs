@@ -11,13 +11,17 @@
 //! - otherwise `min(1, c(y)/c(x))`, where an overflowing quotient is 1 and an underflowing one
 //!   is 0.
 
-#[cfg(target_arch = "spirv")]
-use spirv_std::num_traits::Float;
+/// Whether `x` is finite, from its exponent bits. (`f32::is_finite` compares with an infinite
+/// literal, which naga's SPIR-V front end rejects.)
+#[inline]
+pub fn is_finite(x: f32) -> bool {
+    x.to_bits() & 0x7f80_0000 != 0x7f80_0000
+}
 
 /// Whether a target value may be accepted and splatted: finite and not negative.
 #[inline]
 pub fn is_valid_target(c: f32) -> bool {
-    c.is_finite() && c >= 0.0
+    is_finite(c) && c >= 0.0
 }
 
 /// `a(y|x) = min(1, c(y)/c(x))` with the edge cases of the module documentation.
@@ -26,7 +30,7 @@ pub fn acceptance(c_current: f32, c_proposed: f32) -> f32 {
     if !is_valid_target(c_proposed) {
         return 0.0;
     }
-    if !(c_current.is_finite() && c_current > 0.0) {
+    if !(is_finite(c_current) && c_current > 0.0) {
         return 1.0;
     }
     let ratio = c_proposed / c_current;
@@ -40,6 +44,25 @@ pub fn acceptance(c_current: f32, c_proposed: f32) -> f32 {
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests {
     use super::*;
+
+    #[test]
+    fn is_finite_agrees_with_std() {
+        for x in [
+            0.0f32,
+            -0.0,
+            1.0,
+            f32::MAX,
+            f32::MIN,
+            f32::MIN_POSITIVE,
+            1e-45,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+        ] {
+            assert_eq!(is_finite(x), x.is_finite(), "{x}");
+        }
+    }
 
     #[test]
     fn ordinary_ratio_and_clamp() {

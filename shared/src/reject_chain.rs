@@ -154,9 +154,7 @@ mod tests {
         let length = 8;
         let mut c = [0.0; MAX_REJECT_CHAIN_STATES];
         c[0] = 1.0;
-        for i in 1..=length as usize {
-            c[i] = [0.1, 0.5, 0.05, 2.0, 0.3, 0.0, 0.9, 0.2][i - 1];
-        }
+        c[1..=length as usize].copy_from_slice(&[0.1, 0.5, 0.05, 2.0, 0.3, 0.0, 0.9, 0.2]);
         let (a, p, w, _) = eval(length, &c);
         let trials = 200_000u32;
         let mut time = [0.0f64; 9];

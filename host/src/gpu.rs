@@ -1,0 +1,320 @@
+//! The Vulkan device through wgpu: choosing an adapter, loading the rust-gpu SPIR-V module,
+//! building compute pipelines and moving buffers to and from the device.
+
+use std::borrow::Cow;
+
+/// The kernels compiled by `build.rs` with rust-gpu: one module, every `<pass>_cs` entry point.
+pub const KERNELS_SPV: &[u8] = include_bytes!(env!("SMLT_KERNELS_SPV"));
+
+/// What can go wrong while getting or using the device, each with a message that names it.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No Vulkan adapter at all: no driver, or no loader.
+    #[error(
+        "no Vulkan adapter found: install a Vulkan driver, or Mesa's CPU driver lavapipe \
+         (`apt-get install mesa-vulkan-drivers libvulkan1`, which scripts/setup.sh does), \
+         or render with --device cpu"
+    )]
+    NoAdapter,
+    /// The adapter refused to create a device.
+    #[error("the Vulkan adapter {adapter} could not create a device: {source}")]
+    RequestDevice {
+        /// The adapter's name.
+        adapter: String,
+        /// wgpu's reason.
+        source: wgpu::RequestDeviceError,
+    },
+    /// The compiled module and `kernels::ENTRY_POINTS` disagree (a build problem).
+    #[error("the kernels module's entry points {found:?} are not the declared {declared:?}")]
+    EntryPoints {
+        /// What the SPIR-V holds.
+        found: Vec<String>,
+        /// What `kernels::ENTRY_POINTS` declares.
+        declared: Vec<String>,
+    },
+    /// The driver or wgpu rejected a pipeline.
+    #[error("the device rejected kernel {entry}: {message}")]
+    Pipeline {
+        /// The entry point.
+        entry: String,
+        /// wgpu's validation message, on one line.
+        message: String,
+    },
+    /// A buffer could not be read back.
+    #[error("reading a buffer back from the device failed: {0}")]
+    Readback(String),
+}
+
+/// How the SPIR-V module reached the driver.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShaderPath {
+    /// Handed to the driver unchanged (wgpu's PASSTHROUGH_SHADERS).
+    Passthrough,
+    /// Translated by naga's SPIR-V front end.
+    Naga,
+}
+
+/// An open device with the kernels module loaded.
+pub struct Gpu {
+    /// The adapter's name, type and driver.
+    pub info: wgpu::AdapterInfo,
+    /// The device's limits (what we asked for: the adapter's own).
+    pub limits: wgpu::Limits,
+    /// The logical device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The kernels module.
+    pub module: wgpu::ShaderModule,
+    /// How the module was loaded.
+    pub shader_path: ShaderPath,
+}
+
+/// The names of a SPIR-V module's entry points (from its `OpEntryPoint` instructions).
+pub fn spirv_entry_points(words: &[u32]) -> Vec<String> {
+    const OP_ENTRY_POINT: u32 = 15;
+    let mut names = Vec::new();
+    let mut i = 5; // after the header
+    while i < words.len() {
+        let count = (words[i] >> 16) as usize;
+        if count == 0 {
+            break;
+        }
+        if words[i] & 0xffff == OP_ENTRY_POINT && i + 3 < words.len() {
+            // Operands: execution model, function id, then the nul-terminated name.
+            let bytes: Vec<u8> =
+                words[i + 3..(i + count).min(words.len())].iter().flat_map(|w| w.to_le_bytes()).collect();
+            let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+            names.push(String::from_utf8_lossy(&bytes[..end]).into_owned());
+        }
+        i += count;
+    }
+    names
+}
+
+/// Preference among adapter types: a real GPU first, lavapipe (a CPU device) last.
+fn rank(device_type: wgpu::DeviceType) -> u32 {
+    match device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+impl Gpu {
+    /// Opens the best Vulkan adapter (discrete, integrated, virtual, then CPU such as lavapipe)
+    /// and loads the kernels, handing the SPIR-V to the driver unchanged where the adapter
+    /// allows it and through naga otherwise.
+    pub fn new() -> Result<Self, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        desc.backends = wgpu::Backends::VULKAN;
+        let instance = wgpu::Instance::new(desc);
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
+        let adapter =
+            adapters.into_iter().min_by_key(|a| rank(a.get_info().device_type)).ok_or(GpuError::NoAdapter)?;
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let wanted = wgpu::Features::PASSTHROUGH_SHADERS | wgpu::Features::SHADER_FLOAT32_ATOMIC;
+        let features = adapter.features() & wanted;
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("smlt"),
+            required_features: features,
+            required_limits: limits.clone(),
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|source| GpuError::RequestDevice { adapter: info.name.clone(), source })?;
+        let words = wgpu::util::make_spirv_raw(KERNELS_SPV);
+        // A pipeline for a name the module lacks loses the device under passthrough, so check
+        // the names before handing the module over.
+        let mut found = spirv_entry_points(&words);
+        let mut declared: Vec<String> = kernels::ENTRY_POINTS.iter().map(|s| s.to_string()).collect();
+        found.sort();
+        declared.sort();
+        if found != declared {
+            return Err(GpuError::EntryPoints { found, declared });
+        }
+        let force_naga = std::env::var("SMLT_SHADER_PATH").as_deref() == Ok("naga");
+        let (module, shader_path) = if features.contains(wgpu::Features::PASSTHROUGH_SHADERS) && !force_naga {
+            // SAFETY: the module is rust-gpu's output, validated by spirv-val at build time, and
+            // every pipeline is created with an explicit layout that matches its bindings.
+            let module = unsafe {
+                device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+                    label: Some("kernels"),
+                    entry_points: kernels::ENTRY_POINTS
+                        .iter()
+                        .map(|name| wgpu::PassthroughShaderEntryPoint {
+                            name: Cow::Borrowed(*name),
+                            workgroup_size: (kernels::WORKGROUP_SIZE, 1, 1),
+                        })
+                        .collect(),
+                    spirv: Some(Cow::Borrowed(&words)),
+                    ..Default::default()
+                })
+            };
+            (module, ShaderPath::Passthrough)
+        } else {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("kernels"),
+                source: wgpu::ShaderSource::SpirV(words.clone()),
+            });
+            (module, ShaderPath::Naga)
+        };
+        Ok(Self { info, limits, device, queue, module, shader_path })
+    }
+
+    /// A one-line description of the device: name, type, driver, and how kernels are loaded.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, {} {}; kernels via {:?})",
+            self.info.name, self.info.device_type, self.info.driver, self.info.driver_info, self.shader_path
+        )
+    }
+
+    /// A compute pipeline for entry point `entry` whose bindings 0.. are storage buffers,
+    /// `read_only[i]` saying which ones the kernel only reads.
+    pub fn pipeline(
+        &self,
+        entry: &str,
+        read_only: &[bool],
+    ) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = read_only
+            .iter()
+            .enumerate()
+            .map(|(i, &read_only)| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let bind_layout = self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(entry),
+            entries: &entries,
+        });
+        let layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(entry),
+            bind_group_layouts: &[Some(&bind_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&layout),
+            module: &self.module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            let message = format!("{e}").split_whitespace().collect::<Vec<_>>().join(" ");
+            return Err(GpuError::Pipeline { entry: entry.to_string(), message });
+        }
+        Ok((pipeline, bind_layout))
+    }
+
+    /// A storage buffer holding `data` (at least 4 bytes, as Vulkan wants no empty buffers).
+    pub fn storage_from<T: bytemuck::Pod>(&self, label: &str, data: &[T]) -> wgpu::Buffer {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let padded;
+        let contents = if bytes.is_empty() {
+            padded = [0u8; 4];
+            &padded[..]
+        } else {
+            bytes
+        };
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: contents.len().next_multiple_of(4) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.queue.write_buffer(&buffer, 0, contents);
+        buffer
+    }
+
+    /// A zeroed storage buffer of `len` elements of `T`.
+    pub fn storage_zeroed<T: bytemuck::Pod>(&self, label: &str, len: usize) -> wgpu::Buffer {
+        self.storage_from(label, &vec![T::zeroed(); len])
+    }
+
+    /// A bind group with `buffers` at bindings 0...
+    pub fn bind(&self, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
+            .collect();
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries })
+    }
+
+    /// Records one dispatch of `threads` invocations of a 1-D kernel with workgroups of
+    /// `kernels::WORKGROUP_SIZE`.
+    pub fn dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::ComputePipeline,
+        bind_group: &wgpu::BindGroup,
+        threads: u32,
+    ) {
+        let groups = threads.div_ceil(kernels::WORKGROUP_SIZE);
+        let mut pass =
+            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(groups, 1, 1);
+    }
+
+    /// Copies `len` elements of `T` out of `buffer` (after the work submitted so far).
+    pub fn read<T: bytemuck::Pod>(&self, buffer: &wgpu::Buffer, len: usize) -> Result<Vec<T>, GpuError> {
+        let size = (len * std::mem::size_of::<T>()).max(4) as u64;
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+        self.queue.submit([encoder.finish()]);
+        let slice = staging.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| GpuError::Readback(e.to_string()))?
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let view = slice.get_mapped_range().map_err(|e| GpuError::Readback(e.to_string()))?;
+        let out = bytemuck::cast_slice::<u8, T>(&view[..len * std::mem::size_of::<T>()]).to_vec();
+        drop(view);
+        staging.unmap();
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The module built by rust-gpu holds exactly the entry points `kernels` declares, under
+    /// their plain names (rust-gpu would otherwise qualify them with the module path).
+    #[test]
+    fn module_entry_points_are_the_declared_ones() {
+        let mut found = spirv_entry_points(&wgpu::util::make_spirv_raw(KERNELS_SPV));
+        found.sort();
+        let mut declared: Vec<String> = kernels::ENTRY_POINTS.iter().map(|s| s.to_string()).collect();
+        declared.sort();
+        assert_eq!(found, declared);
+    }
+}

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs what smlt needs, idempotently, and says exactly what to run where it cannot:
+#  - the nightly pinned in rust-toolchain.toml with rust-src, rustc-dev and llvm-tools
+#    (rust-gpu's backend requires exactly that nightly; nothing installs it implicitly here);
+#  - when no Vulkan driver is installed, Debian's Vulkan loader and lavapipe, Mesa's CPU
+#    Vulkan driver (packages libvulkan1 and mesa-vulkan-drivers).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+if ! command -v rustup >/dev/null 2>&1; then
+    echo "error: rustup not found; install it (https://rustup.rs), then rerun $0" >&2
+    exit 1
+fi
+# With no argument, rustup (>= 1.28) installs the toolchain and components that
+# rust-toolchain.toml names; it does nothing when they are present.
+rustup toolchain install >/dev/null
+
+has_vulkan_loader() { ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1'; }
+has_vulkan_driver() {
+    [ -n "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && return 0
+    local d
+    for d in /usr/share/vulkan/icd.d /etc/vulkan/icd.d /usr/local/share/vulkan/icd.d; do
+        compgen -G "$d/*.json" >/dev/null && return 0
+    done
+    return 1
+}
+
+if ! has_vulkan_loader || ! has_vulkan_driver; then
+    packages="libvulkan1 mesa-vulkan-drivers"
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+        echo "setup: no Vulkan driver found; installing the loader and lavapipe ($packages)" >&2
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $packages >/dev/null
+    else
+        echo "error: no Vulkan driver found and cannot install one here (needs root and apt-get);" >&2
+        echo "       run: sudo apt-get install $packages   (or install your GPU's Vulkan driver)" >&2
+        exit 1
+    fi
+fi
