@@ -74,6 +74,26 @@ impl SelfTestCase {
     }
 }
 
+/// The first `n` values of `src` from `start`, in a zero-padded local array.
+fn load<const N: usize>(src: &[f32], start: usize, n: usize) -> [f32; N] {
+    let mut out = [0.0f32; N];
+    let mut i = 0;
+    while i < n {
+        out[i] = src[start + i];
+        i += 1;
+    }
+    out
+}
+
+/// Writes the first `n` values of `src` to `dst` from `start`.
+fn store<const N: usize>(dst: &mut [f32], start: usize, src: &[f32; N], n: usize) {
+    let mut i = 0;
+    while i < n {
+        dst[start + i] = src[i];
+        i += 1;
+    }
+}
+
 /// The kernel body: evaluates case `index`.
 pub fn selftest(index: usize, cases: &[SelfTestCase], inputs: &[f32], out_f: &mut [f32], out_u: &mut [u32]) {
     if index >= cases.len() {
@@ -86,59 +106,27 @@ pub fn selftest(index: usize, cases: &[SelfTestCase], inputs: &[f32], out_f: &mu
     if case.kind == CASE_TREE {
         let depth = case.size;
         let states = 1usize << depth;
-        let mut c = [0.0f32; MAX_TREE_STATES];
-        let mut s = 0;
-        while s < states {
-            c[s] = inputs[input + s];
-            s += 1;
-        }
+        let c: [f32; MAX_TREE_STATES] = load(inputs, input, states);
         let mut accept = [0.0f32; MAX_TREE_CANDIDATES];
         let mut leaf = [0.0f32; MAX_TREE_LEAVES];
         let mut weight = [0.0f32; MAX_TREE_STATES];
         tree::evaluate_tree(depth, &c, &mut accept, &mut leaf, &mut weight);
-        let mut o = output;
-        let mut k = 0;
-        while k < states - 1 {
-            out_f[o] = accept[k];
-            o += 1;
-            k += 1;
-        }
-        k = 0;
-        while k < states {
-            out_f[o] = leaf[k];
-            out_f[o + states] = weight[k];
-            o += 1;
-            k += 1;
-        }
+        store(out_f, output, &accept, states - 1);
+        store(out_f, output + states - 1, &leaf, states);
+        store(out_f, output + 2 * states - 1, &weight, states);
         out_u[u] = tree::select_next_state(depth, &leaf, case.xi);
     } else if case.kind == CASE_REJECT_CHAIN {
         let length = case.size;
-        let states = length as usize + 1;
-        let mut c = [0.0f32; MAX_REJECT_CHAIN_STATES];
-        let mut s = 0;
-        while s < states {
-            c[s] = inputs[input + s];
-            s += 1;
-        }
+        let l = length as usize;
+        let c: [f32; MAX_REJECT_CHAIN_STATES] = load(inputs, input, l + 1);
         let mut accept = [0.0f32; MAX_REJECT_CHAIN as usize];
         let mut next = [0.0f32; MAX_REJECT_CHAIN_STATES];
         let mut weight = [0.0f32; MAX_REJECT_CHAIN_STATES];
         let steps = reject_chain::evaluate_reject_chain(length, &c, &mut accept, &mut next, &mut weight);
-        let mut o = output;
-        let mut k = 0;
-        while k < length as usize {
-            out_f[o] = accept[k];
-            o += 1;
-            k += 1;
-        }
-        k = 0;
-        while k < states {
-            out_f[o] = next[k];
-            out_f[o + states] = weight[k];
-            o += 1;
-            k += 1;
-        }
-        out_f[o + states] = steps;
+        store(out_f, output, &accept, l);
+        store(out_f, output + l, &next, l + 1);
+        store(out_f, output + 2 * l + 1, &weight, l + 1);
+        out_f[output + 3 * l + 2] = steps;
         out_u[u] = reject_chain::select_next_state(length, &next, case.xi);
     } else {
         let params = MutationParams::default();
