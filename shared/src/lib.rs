@@ -15,8 +15,12 @@
 #![deny(missing_docs)]
 
 pub mod acceptance;
+pub mod bsdf;
+pub mod bvh;
+pub mod camera;
 pub mod discrete;
 pub mod layout;
+pub mod light;
 pub mod mutation;
 pub mod reject_chain;
 pub mod rng;
