@@ -24,6 +24,17 @@ pub enum GpuError {
         /// wgpu's reason.
         source: wgpu::RequestDeviceError,
     },
+    /// The adapter cannot take SPIR-V unchanged and naga's translation rejected the module.
+    #[error(
+        "the Vulkan adapter {adapter} lacks SPIR-V passthrough and naga cannot translate the \
+         kernels ({reason}); use a driver with passthrough support (lavapipe, NVIDIA) or --device cpu"
+    )]
+    ShaderModule {
+        /// The adapter's name.
+        adapter: String,
+        /// naga's message, on one line.
+        reason: String,
+    },
     /// The compiled module and `kernels::ENTRY_POINTS` disagree (a build problem).
     #[error("the kernels module's entry points {found:?} are not the declared {declared:?}")]
     EntryPoints {
@@ -157,10 +168,15 @@ impl Gpu {
             };
             (module, ShaderPath::Passthrough)
         } else {
+            let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("kernels"),
                 source: wgpu::ShaderSource::SpirV(words.clone()),
             });
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                let reason = format!("{e}").split_whitespace().collect::<Vec<_>>().join(" ");
+                return Err(GpuError::ShaderModule { adapter: info.name.clone(), reason });
+            }
             (module, ShaderPath::Naga)
         };
         Ok(Self { info, limits, device, queue, module, shader_path })

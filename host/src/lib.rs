@@ -3,5 +3,9 @@
 #![deny(missing_docs)]
 
 pub mod gpu;
+pub mod output;
 pub mod passes;
+pub mod render;
+pub mod scene;
+pub mod scenes;
 pub mod selftest;

@@ -5,11 +5,17 @@
 #![cfg_attr(target_arch = "spirv", no_std)]
 #![deny(missing_docs)]
 
+pub mod connect;
+pub mod mutate;
+pub mod select;
 pub mod selftest;
+pub mod splat;
+pub mod trace;
 
 /// Threads per workgroup of every 1-D kernel.
 pub const WORKGROUP_SIZE: u32 = 64;
 
 /// Every entry point of the module, for the host to declare when it hands the SPIR-V to the
 /// driver unchanged.
-pub const ENTRY_POINTS: &[&str] = &["selftest_cs"];
+pub const ENTRY_POINTS: &[&str] =
+    &["selftest_cs", "mutate_cs", "trace_cs", "connect_cs", "select_cs", "splat_cs"];

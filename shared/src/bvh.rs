@@ -82,6 +82,7 @@ impl Hit {
 
 /// Möller–Trumbore: the distance in (tmin, tmax) at which the ray hits the triangle, or
 /// [`NO_HIT`]. Both faces are hit; degenerate triangles never are.
+#[allow(clippy::manual_range_contains)] // explicit comparisons reject NaN on the device too
 #[inline]
 pub fn intersect_triangle(tri: &Triangle, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> f32 {
     let v0 = Vec3::from_array(tri.v0);

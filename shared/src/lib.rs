@@ -21,6 +21,7 @@ pub mod camera;
 pub mod discrete;
 pub mod layout;
 pub mod light;
+pub mod mmlt;
 pub mod mutation;
 pub mod reject_chain;
 pub mod rng;

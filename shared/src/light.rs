@@ -5,6 +5,9 @@
 //! Emission is one-sided, along the triangle's geometric normal (counter-clockwise winding),
 //! and directions leaving a light are sampled cosine-weighted about that normal.
 
+#[cfg(target_arch = "spirv")]
+use spirv_std::num_traits::Float;
+
 use glam::{Vec2, Vec3};
 
 /// One entry of the light-selection CDF (uploaded to the device as it is).

@@ -15,6 +15,8 @@
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
+use crate::rng::{self, RngKey};
+
 /// Parameters of the mutation schedule (uploaded to the device as they are).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -68,9 +70,80 @@ pub fn small_step(u: f32, offset: f32) -> f32 {
     wrap_unit(u + offset)
 }
 
+/// Whether the level-1 mutation of `chain` at `iteration` is a large step.
+#[inline]
+pub fn is_large_step(seed: u32, chain: u32, iteration: u32, p_large: f32) -> bool {
+    let key = RngKey {
+        seed,
+        chain,
+        iteration,
+        dimension: rng::dimension(rng::STREAM_CONTROL, rng::CONTROL_LARGE_STEP),
+    };
+    rng::uniform(key) < p_large
+}
+
+/// Dimension `dim` of candidate `j` (breadth-first index, see [`crate::tree`]) of a chain
+/// whose current value of that dimension is `current`.
+///
+/// The candidate is the current state with the mutations of the levels it descends through
+/// applied in order: the mutation of its own level, and of every earlier level whose proposal
+/// was accepted in its history. Each level's mutation is one draw per (chain, iteration, level,
+/// dimension), shared by every candidate of that level, so the candidates differ only in which
+/// offsets they accumulated. Level 1 is a large step (a fresh uniform) when `large_step`.
+#[inline]
+pub fn tree_candidate_sample(
+    current: f32,
+    j: u32,
+    large_step: bool,
+    key: RngKey,
+    dim: u32,
+    params: &MutationParams,
+) -> f32 {
+    let level = crate::tree::candidate_level(j);
+    let history = crate::tree::candidate_history(j);
+    let mut v = current;
+    let mut lvl = 1u32;
+    while lvl <= level {
+        let applied = lvl == level || (history >> (level - 1 - lvl)) & 1 == 1;
+        if applied {
+            if lvl == 1 && large_step {
+                let k = RngKey { dimension: rng::dimension(rng::STREAM_LARGE_STEP, dim), ..key };
+                v = rng::uniform(k);
+            } else {
+                let k = RngKey { dimension: rng::dimension(rng::STREAM_PERTURBATION + lvl, dim), ..key };
+                v = small_step(v, small_step_offset(rng::uniform(k), params.s1, params.s2));
+            }
+        }
+        lvl += 1;
+    }
+    v
+}
+
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests {
     use super::*;
+
+    /// Candidates of one level share the level's offset: for a d = 3 tree, the candidate after
+    /// history "accept, reject" is the level-1 candidate moved by exactly the level-3 offset
+    /// that the root's level-3 candidate was moved by.
+    #[test]
+    fn candidates_share_each_levels_offset() {
+        let p = MutationParams::default();
+        let key = RngKey { seed: 5, chain: 9, iteration: 3, dimension: 0 };
+        let root = 0.5f32;
+        let c0 = tree_candidate_sample(root, 0, false, key, 7, &p); // level 1
+        let c3 = tree_candidate_sample(root, 3, false, key, 7, &p); // level 3, history 00
+        let c5 = tree_candidate_sample(root, 5, false, key, 7, &p); // level 3, history 10
+        let c1 = tree_candidate_sample(root, 1, false, key, 7, &p); // level 2, history 0
+        let off3 = c3 - root;
+        assert!((c5 - c0 - off3).abs() < 1e-6, "{c5} {c0} {off3}");
+        assert!(off3.abs() <= p.s2 && c1 != root);
+        // A large step replaces level 1 only; deeper levels still add their offsets.
+        let l0 = tree_candidate_sample(root, 0, true, key, 7, &p);
+        let l2 = tree_candidate_sample(root, 2, true, key, 7, &p); // level 2 after accepting level 1
+        let off2 = tree_candidate_sample(root, 1, true, key, 7, &p) - root;
+        assert!((wrap_unit(l0 + off2) - l2).abs() < 1e-6);
+    }
 
     #[test]
     fn offsets_lie_between_s1_and_s2_with_both_signs() {

@@ -35,6 +35,8 @@ pub const STREAM_SELFTEST: u32 = 255;
 pub const CONTROL_LARGE_STEP: u32 = 0;
 /// Index within [`STREAM_CONTROL`]: the uniform that selects the next state.
 pub const CONTROL_SELECT: u32 = 1;
+/// Index within [`STREAM_CONTROL`]: the uniform that picks a chain's bootstrap sample.
+pub const CONTROL_BOOTSTRAP_PICK: u32 = 2;
 
 /// Packs a stream (high 8 bits) and an index within it (low 24 bits) into a dimension word.
 #[inline]

@@ -1,5 +1,9 @@
 //! Helpers shared by the integration tests.
 
+#![allow(dead_code)]
+
+pub mod scenes;
+
 use smlt::gpu::Gpu;
 
 /// Opens the Vulkan device for a GPU test. Without one the test fails when `CI=true` (CI has

@@ -1,0 +1,208 @@
+//! The device backend: the render's buffers on the GPU and the five passes over them.
+
+use glam::Vec4;
+use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex, RenderParams};
+
+use super::{Backend, RenderError};
+use crate::gpu::Gpu;
+use crate::passes::{self, Pass};
+use crate::scene::SceneData;
+
+/// The device buffers of a render.
+pub struct GpuBuffers {
+    /// One `RenderParams`, rewritten before each dispatch.
+    pub params: wgpu::Buffer,
+    /// Chain samples, SoA (`p + i·N`).
+    pub chain_u: wgpu::Buffer,
+    /// Chain states.
+    pub chains: wgpu::Buffer,
+    /// Candidate samples, SoA (`k + i·C`).
+    pub cand_u: wgpu::Buffer,
+    /// BVH nodes.
+    pub nodes: wgpu::Buffer,
+    /// Triangles.
+    pub triangles: wgpu::Buffer,
+    /// Materials.
+    pub materials: wgpu::Buffer,
+    /// Light CDF.
+    pub lights: wgpu::Buffer,
+    /// Subpath vertices, SoA (`k + slot·C`).
+    pub vertices: wgpu::Buffer,
+    /// Path infos.
+    pub paths: wgpu::Buffer,
+    /// Packed contributions (float4).
+    pub contributions: wgpu::Buffer,
+    /// Splat records (float4), 2^d per chain.
+    pub splats: wgpu::Buffer,
+    /// The f32 image as bits, rgb per pixel.
+    pub image: wgpu::Buffer,
+}
+
+/// The device backend.
+pub struct GpuBackend {
+    gpu: Gpu,
+    buffers: GpuBuffers,
+    passes: [Pass; 5],
+    pixels: usize,
+    chains: u32,
+    candidates: u32,
+    dims: u32,
+    splat_records: u32,
+}
+
+/// Byte sizes of the render's buffers, by name, for a limits check before allocating.
+pub fn buffer_sizes(scene: &SceneData, p: &RenderParams) -> Vec<(&'static str, u64)> {
+    let c = p.candidates as u64;
+    let n = p.chains as u64;
+    vec![
+        ("chain samples", n * p.dims as u64 * 4),
+        ("chain states", n * std::mem::size_of::<ChainState>() as u64),
+        ("candidate samples", c * p.dims as u64 * 4),
+        ("BVH nodes", std::mem::size_of_val(&scene.nodes[..]) as u64),
+        ("triangles", std::mem::size_of_val(&scene.triangles[..]) as u64),
+        ("vertices", c * vertex_slots(p.max_depth) as u64 * std::mem::size_of::<PathVertex>() as u64),
+        ("path infos", c * std::mem::size_of::<PathInfo>() as u64),
+        ("contributions", c * 16),
+        ("splat records", n * (1u64 << p.tree_depth) * 16),
+        ("image", p.width as u64 * p.height as u64 * 12),
+    ]
+}
+
+impl GpuBackend {
+    /// Allocates the buffers for `params` (checking them against the device's limits first)
+    /// and builds the passes.
+    pub fn new(gpu: Gpu, scene: &SceneData, params: &RenderParams) -> Result<Self, RenderError> {
+        let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
+        for (name, size) in buffer_sizes(scene, params) {
+            if size > limit {
+                return Err(RenderError::TooLarge(format!(
+                    "the {name} buffer needs {:.1} MiB but the device allows {:.1} MiB per storage buffer \
+                     (max_storage_buffer_binding_size); lower --candidates, --max-depth or the resolution",
+                    size as f64 / 1048576.0,
+                    limit as f64 / 1048576.0
+                )));
+            }
+        }
+        let groups = params.candidates.div_ceil(kernels::WORKGROUP_SIZE);
+        if groups > gpu.limits.max_compute_workgroups_per_dimension {
+            return Err(RenderError::TooLarge(format!(
+                "{} candidates need {groups} workgroups, more than the device's \
+                 max_compute_workgroups_per_dimension ({}); lower --candidates",
+                params.candidates, gpu.limits.max_compute_workgroups_per_dimension
+            )));
+        }
+        let c = params.candidates as usize;
+        let n = params.chains as usize;
+        let dims = params.dims as usize;
+        let pixels = (params.width * params.height) as usize;
+        let splat_records = kernels::splat::splat_records(params);
+        let buffers = GpuBuffers {
+            params: gpu.storage_from("params", &[*params]),
+            chain_u: gpu.storage_zeroed::<f32>("chain samples", n * dims),
+            chains: gpu.storage_zeroed::<ChainState>("chain states", n),
+            cand_u: gpu.storage_zeroed::<f32>("candidate samples", c * dims),
+            nodes: gpu.storage_from("BVH nodes", &scene.nodes),
+            triangles: gpu.storage_from("triangles", &scene.triangles),
+            materials: gpu.storage_from("materials", &scene.materials),
+            lights: gpu.storage_from("lights", &scene.lights),
+            vertices: gpu
+                .storage_zeroed::<PathVertex>("vertices", c * vertex_slots(params.max_depth) as usize),
+            paths: gpu.storage_zeroed::<PathInfo>("path infos", c),
+            contributions: gpu.storage_zeroed::<Vec4>("contributions", c),
+            splats: gpu.storage_zeroed::<Vec4>("splat records", splat_records as usize),
+            image: gpu.storage_zeroed::<u32>("image", pixels * 3),
+        };
+        let passes = [
+            passes::mutate::gpu(&gpu, &buffers)?,
+            passes::trace::gpu(&gpu, &buffers)?,
+            passes::connect::gpu(&gpu, &buffers)?,
+            passes::select::gpu(&gpu, &buffers)?,
+            passes::splat::gpu(&gpu, &buffers)?,
+        ];
+        Ok(Self {
+            gpu,
+            buffers,
+            passes,
+            pixels,
+            chains: params.chains,
+            candidates: params.candidates,
+            dims: params.dims,
+            splat_records,
+        })
+    }
+
+    /// The device.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// The buffers (for difftests).
+    pub fn buffers(&self) -> &GpuBuffers {
+        &self.buffers
+    }
+
+    /// Runs the named passes (in order) with `params`, `threads` invocations each, and waits.
+    pub fn run(&mut self, params: &RenderParams, which: &[(usize, u32)]) -> Result<(), RenderError> {
+        self.gpu.queue.write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(params));
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        for &(pass, threads) in which {
+            self.passes[pass].encode(&self.gpu, &mut encoder, threads);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| crate::gpu::GpuError::Readback(e.to_string()))?;
+        Ok(())
+    }
+}
+
+/// Index of each pass in [`GpuBackend::run`].
+pub const MUTATE: usize = 0;
+/// See [`MUTATE`].
+pub const TRACE: usize = 1;
+/// See [`MUTATE`].
+pub const CONNECT: usize = 2;
+/// See [`MUTATE`].
+pub const SELECT: usize = 3;
+/// See [`MUTATE`].
+pub const SPLAT: usize = 4;
+
+impl Backend for GpuBackend {
+    fn bootstrap(&mut self, params: &RenderParams) -> Result<Vec<Vec4>, RenderError> {
+        let k = params.candidates;
+        self.run(params, &[(MUTATE, k), (TRACE, k), (CONNECT, k)])?;
+        Ok(self.gpu.read(&self.buffers.contributions, k as usize)?)
+    }
+
+    fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError> {
+        assert_eq!(chain_u.len(), (self.chains * self.dims) as usize);
+        self.gpu.queue.write_buffer(&self.buffers.chain_u, 0, bytemuck::cast_slice(chain_u));
+        self.gpu.queue.write_buffer(&self.buffers.chains, 0, bytemuck::cast_slice(chains));
+        Ok(())
+    }
+
+    fn iterate(&mut self, params: &RenderParams) -> Result<(), RenderError> {
+        let (c, n, r) = (self.candidates, self.chains, self.splat_records);
+        self.run(params, &[(MUTATE, c), (TRACE, c), (CONNECT, c), (SELECT, n), (SPLAT, r)])
+    }
+
+    fn drain(&mut self, image: &mut [f64]) -> Result<(), RenderError> {
+        let bits: Vec<u32> = self.gpu.read(&self.buffers.image, self.pixels * 3)?;
+        for (acc, b) in image.iter_mut().zip(&bits) {
+            *acc += f32::from_bits(*b) as f64;
+        }
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        encoder.clear_buffer(&self.buffers.image, 0, None);
+        self.gpu.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    fn chain_states(&mut self) -> Result<Vec<ChainState>, RenderError> {
+        Ok(self.gpu.read(&self.buffers.chains, self.chains as usize)?)
+    }
+
+    fn describe(&self) -> String {
+        self.gpu.describe()
+    }
+}

@@ -1,0 +1,48 @@
+//! The `connect` pass: one invocation per candidate connects the end points of its subpaths
+//! with one shadow ray, weighs the path with the balance heuristic, and stores the packed
+//! contribution (F in rgb, the pixel index as the bits of w; seed §5.3).
+
+use shared::bsdf::Material;
+use shared::bvh::{BvhNode, Triangle};
+use shared::light::LightEntry;
+use shared::mmlt::{connect_candidate, pack_connection, PathInfo, PathVertex, RenderParams, Samples, Scene};
+use spirv_std::glam::{UVec3, Vec4};
+use spirv_std::spirv;
+
+/// The kernel body for candidate `k`.
+pub fn connect(
+    k: usize,
+    params: &RenderParams,
+    cand_u: &[f32],
+    scene: Scene,
+    vertices: &[PathVertex],
+    paths: &[PathInfo],
+    contributions: &mut [Vec4],
+) {
+    let k = k as u32;
+    if k >= params.candidates {
+        return;
+    }
+    let samples = Samples { candidate: k, count: params.candidates };
+    let c = connect_candidate(params, scene, cand_u, samples, &paths[k as usize], vertices);
+    contributions[k as usize] = pack_connection(&c);
+}
+
+/// Entry point: one invocation per candidate.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64), entry_point_name = "connect_cs"))]
+pub fn connect_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] cand_u: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] nodes: &[BvhNode],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] triangles: &[Triangle],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] materials: &[Material],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] lights: &[LightEntry],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] vertices: &[PathVertex],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] paths: &[PathInfo],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] contributions: &mut [Vec4],
+) {
+    let scene = Scene { nodes, triangles, materials, lights };
+    connect(id.x as usize, &params[0], cand_u, scene, vertices, paths, contributions);
+}

@@ -1,0 +1,55 @@
+//! The `trace` pass: one invocation per candidate chooses the MMLT technique and traces the
+//! camera and light subpaths into the vertex buffer (`shared::mmlt::trace_candidate`).
+
+use shared::bsdf::Material;
+use shared::bvh::{BvhNode, Triangle};
+use shared::light::LightEntry;
+use shared::mmlt::{
+    trace_candidate, ChainState, PathInfo, PathVertex, RenderParams, Samples, Scene, MODE_BOOTSTRAP,
+};
+use shared::tree::candidate_count;
+use spirv_std::glam::UVec3;
+use spirv_std::spirv;
+
+/// The kernel body for candidate `k`.
+#[allow(clippy::too_many_arguments)]
+pub fn trace(
+    k: usize,
+    params: &RenderParams,
+    chains: &[ChainState],
+    cand_u: &[f32],
+    scene: Scene,
+    vertices: &mut [PathVertex],
+    paths: &mut [PathInfo],
+) {
+    let k = k as u32;
+    if k >= params.candidates {
+        return;
+    }
+    let depth = if params.mode == MODE_BOOTSTRAP {
+        (params.sample_offset + k) % (params.max_depth + 1)
+    } else {
+        chains[(k / candidate_count(params.tree_depth)) as usize].depth
+    };
+    let samples = Samples { candidate: k, count: params.candidates };
+    paths[k as usize] = trace_candidate(params, scene, cand_u, samples, depth, vertices);
+}
+
+/// Entry point: one invocation per candidate.
+#[allow(clippy::too_many_arguments)]
+#[spirv(compute(threads(64), entry_point_name = "trace_cs"))]
+pub fn trace_cs(
+    #[spirv(global_invocation_id)] id: UVec3,
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] chains: &[ChainState],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] cand_u: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] nodes: &[BvhNode],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] triangles: &[Triangle],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] materials: &[Material],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] lights: &[LightEntry],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] vertices: &mut [PathVertex],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] paths: &mut [PathInfo],
+) {
+    let scene = Scene { nodes, triangles, materials, lights };
+    trace(id.x as usize, &params[0], chains, cand_u, scene, vertices, paths);
+}
