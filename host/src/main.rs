@@ -51,10 +51,10 @@ struct RenderArgs {
     #[arg(long, default_value = "naive", value_parser = |s: &str| s.parse::<Method>())]
     method: Method,
     /// Stop after this many seconds of iterations (after the bootstrap).
-    #[arg(long, value_parser = positive_f64, conflicts_with = "mutations_per_pixel")]
+    #[arg(long, value_parser = positive_f64, conflicts_with = "mutations_per_pixel", allow_negative_numbers = true)]
     time: Option<f64>,
     /// Stop after this many candidate paths per pixel (default 64 when --time is absent).
-    #[arg(long, value_parser = positive_f64)]
+    #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
     mutations_per_pixel: Option<f64>,
     /// Seed of every random number.
     #[arg(long, default_value_t = 1)]
@@ -220,7 +220,19 @@ fn scene_command(name: &str, out: &PathBuf) -> anyhow::Result<()> {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            // One line naming the problem (clap's first line), not clap's usage epilogue.
+            let text = e.to_string();
+            eprintln!("{}", text.lines().next().unwrap_or("error: invalid arguments"));
+            return ExitCode::from(2);
+        }
+        Err(e) => {
+            let _ = e.print(); // --help, --version
+            return ExitCode::SUCCESS;
+        }
+    };
     let result = match cli.command {
         Command::Selftest { seed } => selftest(seed),
         Command::Render(a) => render_command(a),

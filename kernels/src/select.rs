@@ -56,8 +56,12 @@ pub fn select(
         let (rgb, pixel) = unpack_contribution(v);
         let w = weight[s as usize];
         let cs = c[s as usize];
-        let splat = if w > 0.0 && cs > 0.0 && is_valid_target(cs) {
-            pack_contribution(rgb * (w / cs), 1.0, pixel)
+        // F/c is bounded (each channel ≤ 1/0.0722 for non-negative F), unlike w/c, which
+        // overflows for a denormal c; so divide first.
+        let value = (rgb / cs) * w;
+        let finite = is_valid_target(value.x) && is_valid_target(value.y) && is_valid_target(value.z);
+        let splat = if w > 0.0 && cs > 0.0 && is_valid_target(cs) && finite {
+            pack_contribution(value, 1.0, pixel)
         } else {
             pack_contribution(Vec3::ZERO, 0.0, NO_PIXEL)
         };

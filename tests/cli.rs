@@ -1,0 +1,111 @@
+//! The `smlt` command line as a user runs it.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn smlt(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_smlt")).args(args).output().expect("run smlt");
+    let stderr: String = String::from_utf8_lossy(&out.stderr)
+        .lines()
+        .filter(|l| !l.contains("XDG_RUNTIME_DIR")) // Mesa's harmless notice
+        .map(|l| format!("{l}\n"))
+        .collect();
+    (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), stderr)
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("smlt-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn check_render(dir: &Path, extra: &[&str]) -> String {
+    let exr = dir.join("out.exr");
+    let mut args =
+        vec!["render", "--width", "12", "--height", "7", "--mutations-per-pixel", "8", "--bootstrap", "4096"];
+    args.extend_from_slice(extra);
+    let exr_arg = exr.to_str().unwrap().to_string();
+    args.extend_from_slice(&["--out", &exr_arg]);
+    let (ok, stdout, stderr) = smlt(&args);
+    assert!(ok, "{stderr}");
+    for key in [
+        "chains",
+        "candidates traced",
+        "chain steps",
+        "mutations/s",
+        "acceptance rate",
+        "normalisation b",
+        "NaN/Inf rejected",
+    ] {
+        assert!(stdout.contains(key), "summary lacks {key}: {stdout}");
+    }
+    let (w, h, rgb) = smlt::output::read_exr(&exr).unwrap();
+    assert_eq!((w, h), (12, 7));
+    assert!(rgb.iter().all(|v| v.is_finite() && *v >= 0.0) && rgb.iter().any(|v| *v > 0.0));
+    let png = image::open(dir.join("out.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (12, 7));
+    stdout
+}
+
+#[test]
+fn renders_the_default_scene_on_the_cpu() {
+    let dir = temp_dir("cpu");
+    check_render(&dir, &["--device", "cpu"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn renders_the_default_scene_on_the_device() {
+    if common::gpu_or_skip("renders_the_default_scene_on_the_device").is_none() {
+        return;
+    }
+    let dir = temp_dir("gpu");
+    check_render(&dir, &["--candidates", "1024", "--method", "s2"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Each bad input: non-zero exit, one line on stderr naming the problem, no output written.
+#[test]
+fn bad_input_gets_one_line_and_no_output() {
+    let dir = temp_dir("bad");
+    let out = dir.join("x.exr");
+    let out_s = out.to_str().unwrap();
+    let garbage = dir.join("garbage.glb");
+    std::fs::write(&garbage, [0x13u8, 0x57, 0x9b, 0xdf, 1, 2, 3, 4, 5, 6, 7, 8]).unwrap();
+    let truncated = dir.join("truncated.gltf");
+    std::fs::write(&truncated, "{\"asset\": {\"version\": \"2.0\"}, \"scenes\": [").unwrap();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec!["render".into(), dir.join("missing.gltf").display().to_string()], "missing.gltf"),
+        (vec!["render".into(), dir.display().to_string()], "is a directory"),
+        (vec!["render".into(), garbage.display().to_string()], "garbage.glb"),
+        (vec!["render".into(), truncated.display().to_string()], "truncated.gltf"),
+        (vec!["render".into(), "--method".into(), "s9".into()], "s9"),
+        (vec!["render".into(), "--method".into(), "s0".into()], "s0"),
+        (vec!["render".into(), "--method".into(), "bogus".into()], "bogus"),
+        (vec!["render".into(), "--width".into(), "0".into()], "width"),
+        (vec!["render".into(), "--time".into(), "-1".into()], "time"),
+        (vec!["render".into(), "--time".into(), "0".into()], "time"),
+        (vec!["render".into(), "--out".into(), "/nonexistent-dir/x.exr".into()], "/nonexistent-dir/x.exr"),
+        (vec!["render".into(), "--out".into(), dir.join("x.png").display().to_string()], ".exr"),
+    ];
+    for (mut args, needle) in cases {
+        if !args.iter().any(|a| a == "--out") {
+            args.extend(["--out".to_string(), out_s.to_string(), "--device".into(), "cpu".into()]);
+        }
+        let refs: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        let (ok, _, stderr) = smlt(&refs);
+        assert!(!ok, "{args:?} succeeded");
+        let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+        assert!(
+            lines.iter().any(|l| l.contains(needle)),
+            "{args:?}: stderr does not name '{needle}': {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+        assert!(!out.exists(), "{args:?} left an output file");
+        assert_eq!(lines.len(), 1, "{args:?}: more than one line: {stderr}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,206 @@
+//! Difftests of every render pass: the device and the CPU run the same kernel body on the same
+//! inputs (the CPU's outputs of the previous pass are uploaded to the device), and their
+//! outputs must agree — exactly for integers, within a few ulps for floats. A candidate whose
+//! ray grazes an edge may take a different branch after a 1-ulp difference; at most 0.5 % of
+//! candidates may differ that way, and the test reports how many did.
+
+mod common;
+
+use glam::Vec4;
+use shared::layout::unpack_contribution;
+use shared::mmlt::{ChainState, PathInfo, PathVertex, RenderParams, Scene, MODE_BOOTSTRAP};
+use smlt::gpu::Gpu;
+use smlt::passes;
+use smlt::render::{self, cpu::CpuBackend, gpu, Backend, Budget, Method, Settings};
+use smlt::scene::SceneData;
+
+fn close(a: f32, b: f32, rel: f32) -> bool {
+    a == b || (a - b).abs() <= rel * a.abs().max(b.abs()).max(1e-6) || (a.is_nan() && b.is_nan())
+}
+
+fn close4(a: Vec4, b: Vec4, rel: f32) -> bool {
+    (0..4).all(|i| close(a[i], b[i], rel))
+}
+
+fn vertex_close(a: &PathVertex, b: &PathVertex) -> bool {
+    a.kind == b.kind
+        && a.material == b.material
+        && a.triangle == b.triangle
+        // Positions to 1e-4 of the scene's size (2 units): after several bounces the device's
+        // fused multiply-adds and transcendental approximations move points by ~1e-5.
+        && (0..3).all(|i| {
+            (a.p[i] - b.p[i]).abs() <= 2e-4 && (a.n[i] - b.n[i]).abs() <= 1e-4 && close(a.beta[i], b.beta[i], 1e-3)
+        })
+        && close(a.pdf_fwd, b.pdf_fwd, 1e-3)
+        && close(a.pdf_rev, b.pdf_rev, 1e-3)
+}
+
+fn upload<T: bytemuck::Pod>(gpu: &Gpu, buffer: &wgpu::Buffer, data: &[T]) {
+    gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(data));
+}
+
+fn allowed(n: usize) -> usize {
+    n / 200
+}
+
+fn difftest(gpu: Gpu, method: Method) {
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
+    let s = Settings {
+        width: 24,
+        height: 16,
+        max_depth: 5,
+        seed: 3,
+        method,
+        budget: Budget::MutationsPerPixel(1.0),
+        candidates: 2048,
+        bootstrap_samples: 2048,
+        mutation: Default::default(),
+    };
+    let base = render::base_params(&scene, &s);
+    let (c, n) = (base.candidates as usize, base.chains as usize);
+    let mut dev = gpu::GpuBackend::new(gpu, &scene, &base).expect("device buffers");
+    let mut cpu = CpuBackend::new(&scene, &base);
+    let shared_scene = Scene {
+        nodes: &scene.nodes,
+        triangles: &scene.triangles,
+        materials: &scene.materials,
+        lights: &scene.lights,
+    };
+
+    // Bootstrap (mutate, trace, connect in bootstrap mode).
+    let boot = RenderParams { mode: MODE_BOOTSTRAP, ..base };
+    let a = cpu.bootstrap(&boot).unwrap();
+    let b = dev.bootstrap(&boot).unwrap();
+    let differ = a.iter().zip(&b).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
+    println!("{method}: bootstrap contributions differing: {differ} of {c}");
+    assert!(differ <= allowed(c));
+
+    // Identical chain starts: the first N bootstrap samples.
+    let mut chain_u = vec![0.0f32; n * base.dims as usize];
+    for p in 0..n {
+        for d in 0..base.dims {
+            chain_u[p + d as usize * n] = shared::mmlt::bootstrap_sample(s.seed, p as u32, d);
+        }
+    }
+    let chains: Vec<ChainState> = (0..n)
+        .map(|p| ChainState {
+            contribution: a[p].to_array(),
+            depth: p as u32 % (s.max_depth + 1),
+            ..Default::default()
+        })
+        .collect();
+    cpu.start(&chain_u, &chains).unwrap();
+    dev.start(&chain_u, &chains).unwrap();
+    let params = RenderParams { iteration: 5, ..base };
+
+    // mutate
+    passes::mutate::cpu(&params, &cpu.chain_u, &mut cpu.cand_u);
+    dev.run(&params, &[(gpu::MUTATE, params.candidates)]).unwrap();
+    let dev_u: Vec<f32> = dev.gpu().read(&dev.buffers().cand_u, cpu.cand_u.len()).unwrap();
+    let differ = cpu.cand_u.iter().zip(&dev_u).filter(|(x, y)| (**x - **y).abs() > 1e-6).count();
+    println!("{method}: mutate samples differing: {differ} of {}", dev_u.len());
+    assert_eq!(differ, 0);
+
+    // trace, from the CPU's candidate samples
+    upload(dev.gpu(), &dev.buffers().cand_u, &cpu.cand_u);
+    passes::trace::cpu(&params, &cpu.chains, &cpu.cand_u, shared_scene, &mut cpu.vertices, &mut cpu.paths);
+    dev.run(&params, &[(gpu::TRACE, params.candidates)]).unwrap();
+    let dev_paths: Vec<PathInfo> = dev.gpu().read(&dev.buffers().paths, c).unwrap();
+    let dev_vertices: Vec<PathVertex> = dev.gpu().read(&dev.buffers().vertices, cpu.vertices.len()).unwrap();
+    let slots = shared::mmlt::vertex_slots(s.max_depth) as usize;
+    let mut differ = 0;
+    for k in 0..c {
+        let (pa, pb) = (cpu.paths[k], dev_paths[k]);
+        let same_vertices = (0..slots).all(|slot| {
+            let used = slot < pa.camera_vertices as usize || slot >= slots - pa.light_vertices as usize;
+            !used || vertex_close(&cpu.vertices[k + slot * c], &dev_vertices[k + slot * c])
+        });
+        if pa != pb || !same_vertices {
+            differ += 1;
+            if differ <= 3 && std::env::var("SMLT_DIFF_VERBOSE").is_ok() {
+                println!("candidate {k}: cpu {pa:?}\n  dev {pb:?}");
+                for slot in 0..slots {
+                    let (x, y) = (cpu.vertices[k + slot * c], dev_vertices[k + slot * c]);
+                    if !vertex_close(&x, &y) {
+                        println!("  slot {slot}: cpu {x:?}\n          dev {y:?}");
+                    }
+                }
+            }
+        }
+    }
+    println!("{method}: traced candidates differing: {differ} of {c}");
+    assert!(differ <= allowed(c));
+
+    // connect, from the CPU's vertices and paths
+    upload(dev.gpu(), &dev.buffers().vertices, &cpu.vertices);
+    upload(dev.gpu(), &dev.buffers().paths, &cpu.paths);
+    passes::connect::cpu(
+        &params,
+        &cpu.cand_u,
+        shared_scene,
+        &cpu.vertices,
+        &cpu.paths,
+        &mut cpu.contributions,
+    );
+    dev.run(&params, &[(gpu::CONNECT, params.candidates)]).unwrap();
+    let dev_contrib: Vec<Vec4> = dev.gpu().read(&dev.buffers().contributions, c).unwrap();
+    let differ = cpu.contributions.iter().zip(&dev_contrib).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
+    let nonzero = cpu.contributions.iter().filter(|v| v.truncate().max_element() > 0.0).count();
+    println!("{method}: connected contributions differing: {differ} of {c} ({nonzero} non-zero)");
+    assert!(differ <= allowed(c) && nonzero > c / 10);
+    for (x, y) in cpu.contributions.iter().zip(&dev_contrib) {
+        assert_eq!(unpack_contribution(*x).1, unpack_contribution(*y).1, "pixel bits");
+    }
+
+    // select, from the CPU's contributions
+    upload(dev.gpu(), &dev.buffers().contributions, &cpu.contributions);
+    cpu.select_pass(&params);
+    dev.run(&params, &[(gpu::SELECT, params.chains)]).unwrap();
+    let dev_chains: Vec<ChainState> = dev.gpu().read(&dev.buffers().chains, n).unwrap();
+    let dev_chain_u: Vec<f32> = dev.gpu().read(&dev.buffers().chain_u, cpu.chain_u.len()).unwrap();
+    let records = kernels::splat::splat_records(&params) as usize;
+    let dev_splats: Vec<Vec4> = dev.gpu().read(&dev.buffers().splats, records).unwrap();
+    let differ = (0..n)
+        .filter(|&p| {
+            let (x, y) = (cpu.chains[p], dev_chains[p]);
+            !(close4(Vec4::from_array(x.contribution), Vec4::from_array(y.contribution), 1e-6)
+                && close(x.accepted, y.accepted, 1e-4)
+                && x.invalid == y.invalid
+                && x.depth == y.depth)
+        })
+        .count();
+    let moved = (0..n).filter(|&p| cpu.chains[p].contribution != chains[p].contribution).count();
+    println!("{method}: chain states differing: {differ} of {n} ({moved} moved)");
+    assert!(differ <= allowed(n).max(1) && moved > 0);
+    assert_eq!(cpu.chain_u, dev_chain_u, "chain samples after selection");
+    let differ =
+        cpu.splats[..records].iter().zip(&dev_splats).filter(|(x, y)| !close4(**x, **y, 1e-4)).count();
+    println!("{method}: splat records differing: {differ} of {records}");
+    assert!(differ <= allowed(records).max(1));
+
+    // splat: the device's f32 image equals the CPU's sum of the same records.
+    let mut cpu_image = vec![0.0f64; (params.width * params.height * 3) as usize];
+    passes::splat::cpu(&params, &cpu.splats, &mut cpu_image);
+    upload(dev.gpu(), &dev.buffers().splats, &cpu.splats[..records]);
+    dev.run(&params, &[(gpu::SPLAT, records as u32)]).unwrap();
+    let mut dev_image = vec![0.0f64; cpu_image.len()];
+    dev.drain(&mut dev_image).unwrap();
+    for (x, y) in cpu_image.iter().zip(&dev_image) {
+        assert!((x - y).abs() <= 1e-5 * x.abs().max(1.0), "image {x} vs {y}");
+    }
+    assert!(cpu_image.iter().any(|v| *v > 0.0));
+}
+
+#[test]
+fn naive_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("naive_passes_agree_on_device_and_cpu") {
+        difftest(gpu, Method::Tree(1));
+    }
+}
+
+#[test]
+fn speculative_depth_three_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("speculative_depth_three_passes_agree_on_device_and_cpu") {
+        difftest(gpu, Method::Tree(3));
+    }
+}

@@ -1,0 +1,191 @@
+//! glTF loading and the BVH.
+
+mod common;
+
+use glam::{Vec3, Vec3A};
+use serde_json::{json, Value};
+use shared::bsdf::Material;
+use shared::bvh::{closest_hit, NO_HIT};
+use smlt::scene::{SceneData, SceneError, TriangleSoup};
+use smlt::scenes::GltfBuilder;
+
+fn one_light_doc() -> Value {
+    let mut b = GltfBuilder::new();
+    let m = b.material("lamp", [0.5; 3], [1.0, 0.5, 0.25], 4.0, Some(1e5));
+    b.quad(m, [Vec3::new(0., 0., 0.), Vec3::new(1., 0., 0.), Vec3::new(1., 1., 0.), Vec3::new(0., 1., 0.)]);
+    b.camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.5);
+    serde_json::from_str(&b.to_json()).unwrap()
+}
+
+fn load(doc: &Value) -> Result<SceneData, SceneError> {
+    SceneData::from_slice(doc.to_string().as_bytes(), "test")
+}
+
+#[test]
+fn the_committed_default_scene_is_what_the_generator_writes() {
+    let committed = include_str!("../scenes/cornell.gltf");
+    assert_eq!(
+        committed,
+        smlt::scenes::cornell::cornell(),
+        "regenerate with `smlt scene cornell --out scenes/cornell.gltf`"
+    );
+}
+
+#[test]
+fn materials_read_emissive_strength_and_the_phong_extra() {
+    let scene = load(&one_light_doc()).unwrap();
+    let m: &Material = &scene.materials[1];
+    assert_eq!(m.emission, [4.0, 2.0, 1.0]);
+    assert_eq!(m.albedo, [0.5; 3]);
+    assert_eq!(m.phong_exponent, 1e5);
+    assert_eq!(scene.materials[0].albedo, [1.0; 3], "glTF's default material");
+    assert_eq!(scene.lights.len(), 2);
+    // Two equal triangles: each is picked half the time, area 0.5 → area density 1.
+    for t in &scene.triangles {
+        assert!((t.light_area_pdf - 1.0).abs() < 1e-6);
+    }
+    let mut doc = one_light_doc();
+    doc["materials"][0]["extras"] = json!({"smlt_phong_exponent": "shiny"});
+    assert!(matches!(load(&doc), Err(SceneError::Unsupported { .. })));
+}
+
+/// Node transforms compose parent × child, with TRS and matrix forms.
+#[test]
+fn node_transforms_and_the_camera() {
+    let mut doc = one_light_doc();
+    // Wrap the mesh node in a parent: translate (1, 2, 3), rotate 90° about +Y, scale 2; the
+    // child itself is moved by (0, 1, 0) with a matrix.
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    doc["nodes"][0]["matrix"] = json!([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1]);
+    let parent =
+        json!({"children": [0], "translation": [1, 2, 3], "rotation": [0, s, 0, s], "scale": [2, 2, 2]});
+    doc["nodes"].as_array_mut().unwrap().push(parent);
+    doc["scenes"][0]["nodes"] = json!([2, 1]);
+    let scene = load(&doc).unwrap();
+    // Vertex (1, 0, 0) → child (1, 1, 0) → scale (2, 2, 0) → rotate about Y (0, 2, −2) → (1, 4, 1).
+    let all: Vec<Vec3> =
+        scene.triangles.iter().flat_map(|t| [t.v0, t.v1, t.v2]).map(Vec3::from_array).collect();
+    assert!(all.iter().any(|v| (*v - Vec3::new(1.0, 4.0, 1.0)).length() < 1e-5), "{all:?}");
+    assert!(all.iter().any(|v| (*v - Vec3::new(1.0, 4.0, 3.0)).length() < 1e-5), "origin → (1, 4, 3)");
+    // The camera node: at (0, 0, 5) looking at the origin.
+    let c = scene.camera;
+    assert!((c.position - Vec3::new(0.0, 0.0, 5.0)).length() < 1e-5);
+    assert!((c.forward - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-5);
+    assert!((c.up - Vec3::Y).length() < 1e-5);
+    assert_eq!(c.yfov, 0.5);
+}
+
+#[test]
+fn unsupported_content_is_an_error_or_a_warning() {
+    let mut doc = one_light_doc();
+    doc["meshes"][0]["primitives"][0]["mode"] = json!(1); // LINES
+    let err = load(&doc).unwrap_err().to_string();
+    assert!(err.contains("primitive mode") && err.contains("TRIANGLES"), "{err}");
+
+    let mut doc = one_light_doc();
+    doc["materials"][0]["emissiveFactor"] = json!([0, 0, 0]);
+    let err = load(&doc).unwrap_err().to_string();
+    assert!(err.contains("nothing emits light"), "{err}");
+
+    // A texture (a real 1×1 PNG beside the file) is named in a warning, not silently dropped.
+    let dir = std::env::temp_dir().join(format!("smlt-texture-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    image::RgbImage::from_pixel(1, 1, image::Rgb([200, 10, 10])).save(dir.join("red.png")).unwrap();
+    let mut doc = one_light_doc();
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
+    doc["textures"] = json!([{"source": 0}]);
+    doc["images"] = json!([{"uri": "red.png"}]);
+    std::fs::write(dir.join("textured.gltf"), doc.to_string()).unwrap();
+    let scene = SceneData::load(&dir.join("textured.gltf")).unwrap();
+    assert!(scene.warnings.iter().any(|w| w.contains("textures are ignored")), "{:?}", scene.warnings);
+    // A buffer URI that does not exist, a missing file, a directory.
+    doc["buffers"][0]["uri"] = json!("missing.bin");
+    std::fs::write(dir.join("missing-buffer.gltf"), doc.to_string()).unwrap();
+    let err = SceneData::load(&dir.join("missing-buffer.gltf")).unwrap_err().to_string();
+    assert!(err.contains("cannot load glTF scene") && err.contains("missing-buffer.gltf"), "{err}");
+    let err = SceneData::load(&dir.join("nope.gltf")).unwrap_err().to_string();
+    assert!(err.contains("nope.gltf"), "{err}");
+    let err = SceneData::load(&dir).unwrap_err().to_string();
+    assert!(err.contains("is a directory"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+
+    let err =
+        SceneData::from_slice(b"{\"asset\": {\"version\": \"2.0\"", "truncated").unwrap_err().to_string();
+    assert!(err.contains("cannot load glTF scene truncated"), "{err}");
+    let err = SceneData::from_slice(&[0x67, 0x6c, 0x54, 0x46, 7, 7, 7, 7, 1, 2, 3], "random.glb")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("cannot load glTF scene random.glb"), "{err}");
+}
+
+/// The shared BVH traversal against obvhs's own CPU traversal of the same triangles: 10^5
+/// rays, a third of them axis-parallel (one or two zero direction components), and
+/// degenerate triangles in the mix.
+#[test]
+fn bvh_traversal_matches_obvhs() {
+    let mut rng = 0x1234_5678u64;
+    let mut next = || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let mut soup = TriangleSoup {
+        materials: vec![Material { albedo: [0.5; 3], emission: [1.0; 3], ..Default::default() }],
+        ..Default::default()
+    };
+    for i in 0..2000 {
+        let c = Vec3::new(next(), next(), next()) * 10.0 - 5.0;
+        let tri = if i % 50 == 0 {
+            [c, c + Vec3::X, c + Vec3::X * 2.0] // zero area
+        } else {
+            [c, c + Vec3::new(next(), next(), next()) - 0.5, c + Vec3::new(next(), next(), next()) - 0.5]
+        };
+        soup.triangles.push(tri);
+        soup.material_of.push(0);
+    }
+    let original = soup.triangles.clone();
+    let scene = SceneData::from_soup(soup, "random").unwrap();
+    let obvhs_tris: Vec<obvhs::triangle::Triangle> = original
+        .iter()
+        .map(|t| obvhs::triangle::Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() })
+        .collect();
+    let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(
+        &obvhs_tris,
+        obvhs::BvhBuildParams::medium_build(),
+        &mut std::time::Duration::default(),
+    );
+    let (mut hits, mut axis) = (0, 0);
+    for i in 0..100_000 {
+        let o = Vec3::new(next(), next(), next()) * 14.0 - 7.0;
+        let mut d = Vec3::new(next(), next(), next()) * 2.0 - 1.0;
+        if i % 3 == 0 {
+            axis += 1;
+            d.x = 0.0;
+            if i % 2 == 0 {
+                d.y = if i % 4 == 0 { 0.0 } else { -0.0 };
+            }
+        }
+        if d.length() < 1e-3 {
+            continue;
+        }
+        let d = d.normalize();
+        let ours = closest_hit(&scene.nodes, &scene.triangles, o, d, 0.0, NO_HIT);
+        let ray = obvhs::ray::Ray::new(Vec3A::from(o), Vec3A::from(d), 0.0, f32::INFINITY);
+        let mut hit = obvhs::ray::RayHit::none();
+        let found = bvh
+            .ray_traverse(ray, &mut hit, |r, id| obvhs_tris[bvh.primitive_indices[id] as usize].intersect(r));
+        assert_eq!(ours.found(), found, "ray {i}: o {o} d {d}: ours {ours:?}, obvhs {}", hit.t);
+        if found {
+            hits += 1;
+            assert!((ours.t - hit.t).abs() <= 1e-4 * hit.t.max(1.0), "ray {i}: t {} vs {}", ours.t, hit.t);
+            let theirs = original[bvh.primitive_indices[hit.primitive_id as usize] as usize];
+            let mine = scene.triangles[ours.triangle as usize];
+            let same = [mine.v0, mine.v1, mine.v2]
+                == [theirs[0].to_array(), theirs[1].to_array(), theirs[2].to_array()];
+            assert!(same || (ours.t - hit.t).abs() < 1e-5, "ray {i}: different triangle at t {}", ours.t);
+        }
+    }
+    println!("{hits} hits of 100000 rays ({axis} axis-parallel)");
+    assert!(hits > 10_000);
+}
