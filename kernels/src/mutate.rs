@@ -5,25 +5,33 @@
 //! independent sample.
 
 use shared::layout::soa_index;
-use shared::mmlt::{bootstrap_sample, RenderParams, MODE_BOOTSTRAP};
-use shared::mutation::{is_large_step, tree_candidate_sample};
-use shared::rng::RngKey;
+use shared::mmlt::{bootstrap_key, RenderParams, MODE_BOOTSTRAP};
+use shared::mutation::{is_large_step, tree_candidate_sample, tree_level_uniforms};
+use shared::rng::{self, RngKey};
 use shared::tree::candidate_count;
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
-/// The kernel body for candidate `k`.
+/// The kernel body for candidate `k`. Dimensions are handled four at a time, one random hash
+/// per level serving four dimensions.
 pub fn mutate(k: usize, params: &RenderParams, chain_u: &[f32], cand_u: &mut [f32]) {
     let k = k as u32;
     if k >= params.candidates {
         return;
     }
     let c = params.candidates;
+    let groups = params.dims.div_ceil(4);
     if params.mode == MODE_BOOTSTRAP {
-        let mut dim = 0;
-        while dim < params.dims {
-            cand_u[soa_index(k, dim, c)] = bootstrap_sample(params.seed, params.sample_offset + k, dim);
-            dim += 1;
+        let key = bootstrap_key(params.seed, params.sample_offset + k);
+        let mut group = 0;
+        while group < groups {
+            let u = rng::uniform4(key, rng::STREAM_LARGE_STEP, group);
+            let mut lane = 0;
+            while lane < 4 && 4 * group + lane < params.dims {
+                cand_u[soa_index(k, 4 * group + lane, c)] = u[lane as usize];
+                lane += 1;
+            }
+            group += 1;
         }
         return;
     }
@@ -32,11 +40,18 @@ pub fn mutate(k: usize, params: &RenderParams, chain_u: &[f32], cand_u: &mut [f3
     let j = k % per_chain;
     let large = is_large_step(params.seed, chain, params.iteration, params.mutation.p_large);
     let key = RngKey { seed: params.seed, chain, iteration: params.iteration, dimension: 0 };
-    let mut dim = 0;
-    while dim < params.dims {
-        let current = chain_u[soa_index(chain, dim, params.chains)];
-        cand_u[soa_index(k, dim, c)] = tree_candidate_sample(current, j, large, key, dim, &params.mutation);
-        dim += 1;
+    let mut group = 0;
+    while group < groups {
+        let u = tree_level_uniforms(key, j, large, group);
+        let mut lane = 0;
+        while lane < 4 && 4 * group + lane < params.dims {
+            let dim = 4 * group + lane;
+            let current = chain_u[soa_index(chain, dim, params.chains)];
+            cand_u[soa_index(k, dim, c)] =
+                tree_candidate_sample(current, j, large, &u[lane as usize], &params.mutation);
+            lane += 1;
+        }
+        group += 1;
     }
 }
 

@@ -97,12 +97,13 @@ pub const BOOTSTRAP_ITERATION: u32 = u32::MAX;
 /// chosen samples' vectors with this same function to start the chains).
 #[inline]
 pub fn bootstrap_sample(seed: u32, sample: u32, dim: u32) -> f32 {
-    crate::rng::uniform(crate::rng::RngKey {
-        seed,
-        chain: sample,
-        iteration: BOOTSTRAP_ITERATION,
-        dimension: crate::rng::dimension(crate::rng::STREAM_LARGE_STEP, dim),
-    })
+    crate::rng::uniform_dim(bootstrap_key(seed, sample), crate::rng::STREAM_LARGE_STEP, dim)
+}
+
+/// The random key of bootstrap sample `sample`.
+#[inline]
+pub fn bootstrap_key(seed: u32, sample: u32) -> crate::rng::RngKey {
+    crate::rng::RngKey { seed, chain: sample, iteration: BOOTSTRAP_ITERATION, dimension: 0 }
 }
 
 /// Everything a pass needs to know about the render (uploaded before each dispatch).

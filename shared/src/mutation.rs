@@ -27,13 +27,20 @@ pub struct MutationParams {
     pub s2: f32,
     /// Probability that the level-1 mutation of an iteration is a large step (default 0.3).
     pub p_large: f32,
-    /// Padding to 16 bytes.
-    pub _pad: f32,
+    /// ln(s2 / s1), precomputed ([`MutationParams::new`]).
+    pub log_ratio: f32,
+}
+
+impl MutationParams {
+    /// The schedule for s1, s2 and p_large.
+    pub fn new(s1: f32, s2: f32, p_large: f32) -> Self {
+        Self { s1, s2, p_large, log_ratio: (s2 / s1).ln() }
+    }
 }
 
 impl Default for MutationParams {
     fn default() -> Self {
-        Self { s1: 1.0 / 1024.0, s2: 1.0 / 64.0, p_large: 0.3, _pad: 0.0 }
+        Self::new(1.0 / 1024.0, 1.0 / 64.0, 0.3)
     }
 }
 
@@ -42,8 +49,14 @@ impl Default for MutationParams {
 /// (rescaled to [0, 1)) sets the magnitude `s2 · exp(−ln(s2/s1) · ξ')` ∈ (s1, s2].
 #[inline]
 pub fn small_step_offset(xi: f32, s1: f32, s2: f32) -> f32 {
+    small_step_offset_log(xi, s2, (s2 / s1).ln())
+}
+
+/// [`small_step_offset`] with ln(s2/s1) given (the device precomputes it once).
+#[inline]
+pub fn small_step_offset_log(xi: f32, s2: f32, log_ratio: f32) -> f32 {
     let (sign, t) = if xi < 0.5 { (1.0, 2.0 * xi) } else { (-1.0, 2.0 * xi - 1.0) };
-    sign * s2 * (-(s2 / s1).ln() * t).exp()
+    sign * s2 * (-log_ratio * t).exp()
 }
 
 /// Wraps `v` ∈ (−1, 2) into [0, 1). A value that rounds to 1.0 after wrapping is the same
@@ -82,21 +95,21 @@ pub fn is_large_step(seed: u32, chain: u32, iteration: u32, p_large: f32) -> boo
     rng::uniform(key) < p_large
 }
 
-/// Dimension `dim` of candidate `j` (breadth-first index, see [`crate::tree`]) of a chain
-/// whose current value of that dimension is `current`.
+/// One dimension of candidate `j` (breadth-first index, see [`crate::tree`]) of a chain whose
+/// current value of that dimension is `current`.
 ///
 /// The candidate is the current state with the mutations of the levels it descends through
 /// applied in order: the mutation of its own level, and of every earlier level whose proposal
 /// was accepted in its history. Each level's mutation is one draw per (chain, iteration, level,
-/// dimension), shared by every candidate of that level, so the candidates differ only in which
-/// offsets they accumulated. Level 1 is a large step (a fresh uniform) when `large_step`.
+/// dimension) — `level_uniforms[lvl]` for levels 1..=8, and `level_uniforms[0]` the fresh
+/// value of a large step — shared by every candidate of that level, so the candidates differ
+/// only in which offsets they accumulated. Level 1 is a large step when `large_step`.
 #[inline]
 pub fn tree_candidate_sample(
     current: f32,
     j: u32,
     large_step: bool,
-    key: RngKey,
-    dim: u32,
+    level_uniforms: &[f32; 9],
     params: &MutationParams,
 ) -> f32 {
     let level = crate::tree::candidate_level(j);
@@ -107,11 +120,10 @@ pub fn tree_candidate_sample(
         let applied = lvl == level || (history >> (level - 1 - lvl)) & 1 == 1;
         if applied {
             if lvl == 1 && large_step {
-                let k = RngKey { dimension: rng::dimension(rng::STREAM_LARGE_STEP, dim), ..key };
-                v = rng::uniform(k);
+                v = level_uniforms[0];
             } else {
-                let k = RngKey { dimension: rng::dimension(rng::STREAM_PERTURBATION + lvl, dim), ..key };
-                v = small_step(v, small_step_offset(rng::uniform(k), params.s1, params.s2));
+                let offset = small_step_offset_log(level_uniforms[lvl as usize], params.s2, params.log_ratio);
+                v = small_step(v, offset);
             }
         }
         lvl += 1;
@@ -119,9 +131,42 @@ pub fn tree_candidate_sample(
     v
 }
 
+/// The uniforms of [`tree_candidate_sample`] for dimensions `4·group .. 4·group + 4` of
+/// candidate `j` of the chain named by `key`: lane i of the result holds dimension 4·group + i.
+/// Only the levels candidate `j` descends through are drawn.
+#[inline]
+pub fn tree_level_uniforms(key: RngKey, j: u32, large_step: bool, group: u32) -> [[f32; 9]; 4] {
+    let level = crate::tree::candidate_level(j);
+    let mut out = [[0.0f32; 9]; 4];
+    if large_step {
+        let fresh = rng::uniform4(key, rng::STREAM_LARGE_STEP, group);
+        let mut lane = 0;
+        while lane < 4 {
+            out[lane][0] = fresh[lane];
+            lane += 1;
+        }
+    }
+    let mut lvl = 1u32;
+    while lvl <= level {
+        let u = rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, group);
+        let mut lane = 0;
+        while lane < 4 {
+            out[lane][lvl as usize] = u[lane];
+            lane += 1;
+        }
+        lvl += 1;
+    }
+    out
+}
+
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests {
     use super::*;
+
+    fn sample(root: f32, j: u32, large: bool, key: RngKey, dim: u32) -> f32 {
+        let u = tree_level_uniforms(key, j, large, dim / 4)[(dim % 4) as usize];
+        tree_candidate_sample(root, j, large, &u, &MutationParams::default())
+    }
 
     /// Candidates of one level share the level's offset: for a d = 3 tree, the candidate after
     /// history "accept, reject" is the level-1 candidate moved by exactly the level-3 offset
@@ -131,18 +176,31 @@ mod tests {
         let p = MutationParams::default();
         let key = RngKey { seed: 5, chain: 9, iteration: 3, dimension: 0 };
         let root = 0.5f32;
-        let c0 = tree_candidate_sample(root, 0, false, key, 7, &p); // level 1
-        let c3 = tree_candidate_sample(root, 3, false, key, 7, &p); // level 3, history 00
-        let c5 = tree_candidate_sample(root, 5, false, key, 7, &p); // level 3, history 10
-        let c1 = tree_candidate_sample(root, 1, false, key, 7, &p); // level 2, history 0
-        let off3 = c3 - root;
-        assert!((c5 - c0 - off3).abs() < 1e-6, "{c5} {c0} {off3}");
-        assert!(off3.abs() <= p.s2 && c1 != root);
-        // A large step replaces level 1 only; deeper levels still add their offsets.
-        let l0 = tree_candidate_sample(root, 0, true, key, 7, &p);
-        let l2 = tree_candidate_sample(root, 2, true, key, 7, &p); // level 2 after accepting level 1
-        let off2 = tree_candidate_sample(root, 1, true, key, 7, &p) - root;
-        assert!((wrap_unit(l0 + off2) - l2).abs() < 1e-6);
+        for dim in [0, 7, 50] {
+            let c0 = sample(root, 0, false, key, dim); // level 1
+            let c3 = sample(root, 3, false, key, dim); // level 3, history 00
+            let c5 = sample(root, 5, false, key, dim); // level 3, history 10
+            let c1 = sample(root, 1, false, key, dim); // level 2, history 0
+            let off3 = c3 - root;
+            assert!((c5 - c0 - off3).abs() < 1e-6, "{c5} {c0} {off3}");
+            assert!(off3.abs() <= p.s2 && c1 != root);
+            // A large step replaces level 1 only; deeper levels still add their offsets.
+            let l0 = sample(root, 0, true, key, dim);
+            let l2 = sample(root, 2, true, key, dim); // level 2 after accepting level 1
+            let off2 = sample(root, 1, true, key, dim) - root;
+            assert!((wrap_unit(l0 + off2) - l2).abs() < 1e-6);
+        }
+        // Lanes are different dimensions: different offsets.
+        assert_ne!(sample(root, 0, false, key, 4), sample(root, 0, false, key, 5));
+    }
+
+    #[test]
+    fn precomputed_log_ratio_gives_the_same_offsets() {
+        let p = MutationParams::default();
+        for i in 0..100 {
+            let xi = i as f32 / 100.0;
+            assert_eq!(small_step_offset(xi, p.s1, p.s2), small_step_offset_log(xi, p.s2, p.log_ratio));
+        }
     }
 
     #[test]

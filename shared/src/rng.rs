@@ -87,6 +87,21 @@ pub fn uniform(key: RngKey) -> f32 {
     unit_f32(random_u32x4(key)[0])
 }
 
+/// Four uniforms for the four consecutive primary-sample dimensions `4·group .. 4·group + 4`
+/// of `stream`: one hash serves four dimensions.
+#[inline]
+pub fn uniform4(key: RngKey, stream: u32, group: u32) -> [f32; 4] {
+    let w = random_u32x4(RngKey { dimension: dimension(stream, group), ..key });
+    [unit_f32(w[0]), unit_f32(w[1]), unit_f32(w[2]), unit_f32(w[3])]
+}
+
+/// The uniform of primary-sample dimension `dim` of `stream` (lane `dim mod 4` of
+/// [`uniform4`] for group `dim / 4`).
+#[inline]
+pub fn uniform_dim(key: RngKey, stream: u32, dim: u32) -> f32 {
+    uniform4(key, stream, dim >> 2)[(dim & 3) as usize]
+}
+
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests {
     use super::*;
