@@ -160,19 +160,30 @@ fn difftest(gpu: Gpu, method: Method) {
     let dev_chain_u: Vec<f32> = dev.gpu().read(&dev.buffers().chain_u, cpu.chain_u.len()).unwrap();
     let records = kernels::splat::splat_records(&params) as usize;
     let dev_splats: Vec<Vec4> = dev.gpu().read(&dev.buffers().splats, records).unwrap();
-    let differ = (0..n)
-        .filter(|&p| {
+    // A chain whose next-state draw falls within rounding of a probability boundary may move
+    // differently on the two sides; every other chain must have identical samples.
+    let same_state: Vec<bool> = (0..n)
+        .map(|p| {
             let (x, y) = (cpu.chains[p], dev_chains[p]);
-            !(close4(Vec4::from_array(x.contribution), Vec4::from_array(y.contribution), 1e-6)
+            close4(Vec4::from_array(x.contribution), Vec4::from_array(y.contribution), 1e-6)
                 && close(x.accepted, y.accepted, 1e-4)
                 && x.invalid == y.invalid
-                && x.depth == y.depth)
+                && x.depth == y.depth
         })
-        .count();
+        .collect();
+    let differ = same_state.iter().filter(|x| !**x).count();
     let moved = (0..n).filter(|&p| cpu.chains[p].contribution != chains[p].contribution).count();
     println!("{method}: chain states differing: {differ} of {n} ({moved} moved)");
     assert!(differ <= allowed(n).max(1) && moved > 0);
-    assert_eq!(cpu.chain_u, dev_chain_u, "chain samples after selection");
+    for p in (0..n).filter(|&p| same_state[p]) {
+        for d in 0..base.dims as usize {
+            assert_eq!(
+                cpu.chain_u[p + d * n],
+                dev_chain_u[p + d * n],
+                "chain {p} sample {d} after selection"
+            );
+        }
+    }
     let differ =
         cpu.splats[..records].iter().zip(&dev_splats).filter(|(x, y)| !close4(**x, **y, 1e-4)).count();
     println!("{method}: splat records differing: {differ} of {records}");
