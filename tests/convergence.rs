@@ -151,3 +151,42 @@ fn large_steps_only_and_the_default_schedule_agree() {
     }
     println!("default vs large steps only: worst block |z| = {worst:.2}");
 }
+
+/// Every method converges to the same image: on the default scene, at a fixed seed and equal
+/// budgets, each 4×4 block's mean over 5 independent renders of s2, s4, s6, rc4 and rc16 agrees
+/// with naive's within 5 standard errors of the difference (from the renders' spread).
+#[test]
+fn every_method_converges_to_the_same_image() {
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
+    let mut s = settings(32, 5, 256.0, 4096, 1 << 17);
+    let naive = replica_blocks(&scene, &s, 30, 5);
+    for method in ["s2", "s4", "s6", "rc4", "rc16"] {
+        s.method = method.parse().unwrap();
+        let runs = replica_blocks(&scene, &s, 40, 5);
+        let mut worst = 0.0f64;
+        for b in 0..16 {
+            let (ma, va) = mean_and_variance(&naive, b);
+            let (mb, vb) = mean_and_variance(&runs, b);
+            let z = (ma - mb) / ((va + vb) / 5.0).sqrt().max(1e-9);
+            worst = worst.max(z.abs());
+            assert!(z.abs() < 5.0, "{method} block {b}: naive {ma:.5}, {method} {mb:.5} (z = {z:.2})");
+        }
+        println!("{method} vs naive: worst block |z| = {worst:.2}");
+    }
+}
+
+/// `s1` is the naive method: the same image, bit for bit.
+#[test]
+fn s1_is_naive_bit_for_bit() {
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
+    let mut s = settings(16, 4, 16.0, 1024, 4096);
+    s.method = "naive".parse().unwrap();
+    let a = render_cpu(&scene, &s);
+    s.method = "s1".parse().unwrap();
+    let b = render_cpu(&scene, &s);
+    assert_eq!(
+        a.rgb.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+        b.rgb.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    );
+    assert_eq!(a.stats, b.stats.clone().with_times_of(&a.stats));
+}

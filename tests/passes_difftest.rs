@@ -9,6 +9,7 @@ mod common;
 use glam::Vec4;
 use shared::layout::unpack_contribution;
 use shared::mmlt::{ChainState, PathInfo, PathVertex, RenderParams, Scene, MODE_BOOTSTRAP};
+use shared::{reject_chain, tree};
 use smlt::gpu::Gpu;
 use smlt::passes;
 use smlt::render::{self, cpu::CpuBackend, gpu, Backend, Budget, Method, Settings};
@@ -37,6 +38,30 @@ fn vertex_close(a: &PathVertex, b: &PathVertex) -> bool {
 
 fn upload<T: bytemuck::Pod>(gpu: &Gpu, buffer: &wgpu::Buffer, data: &[T]) {
     gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(data));
+}
+
+/// The weight of every distinct state from the shared math, for targets `c` (root first).
+fn expected_weights(method: Method, c: &[f32]) -> Vec<f32> {
+    match method {
+        Method::Tree(d) => {
+            let mut cc = [0.0; tree::MAX_TREE_STATES];
+            cc[..c.len()].copy_from_slice(c);
+            let (mut a, mut l, mut w) = (
+                [0.0; tree::MAX_TREE_CANDIDATES],
+                [0.0; tree::MAX_TREE_LEAVES],
+                [0.0; tree::MAX_TREE_STATES],
+            );
+            tree::evaluate_tree(d, &cc, &mut a, &mut l, &mut w);
+            w[..c.len()].to_vec()
+        }
+        Method::RejectChain(len) => {
+            let mut cc = [0.0; reject_chain::MAX_REJECT_CHAIN_STATES];
+            cc[..c.len()].copy_from_slice(c);
+            let (mut a, mut p, mut w) = ([0.0; 64], [0.0; 65], [0.0; 65]);
+            reject_chain::evaluate_reject_chain(len, &cc, &mut a, &mut p, &mut w);
+            w[..c.len()].to_vec()
+        }
+    }
 }
 
 fn allowed(n: usize) -> usize {
@@ -94,7 +119,7 @@ fn difftest(gpu: Gpu, method: Method) {
     let params = RenderParams { iteration: 5, ..base };
 
     // mutate
-    passes::mutate::cpu(&params, &cpu.chain_u, &mut cpu.cand_u);
+    passes::mutate::cpu(&params, &cpu.chains, &cpu.chain_u, &mut cpu.cand_u, &mut cpu.cand_depth);
     dev.run(&params, &[(gpu::MUTATE, params.candidates)]).unwrap();
     let dev_u: Vec<f32> = dev.gpu().read(&dev.buffers().cand_u, cpu.cand_u.len()).unwrap();
     let differ = cpu.cand_u.iter().zip(&dev_u).filter(|(x, y)| (**x - **y).abs() > 1e-6).count();
@@ -102,8 +127,17 @@ fn difftest(gpu: Gpu, method: Method) {
     assert_eq!(differ, 0);
 
     // trace, from the CPU's candidate samples
+    let dev_depth: Vec<u32> = dev.gpu().read(&dev.buffers().cand_depth, c).unwrap();
+    assert_eq!(cpu.cand_depth, dev_depth, "candidate depths");
     upload(dev.gpu(), &dev.buffers().cand_u, &cpu.cand_u);
-    passes::trace::cpu(&params, &cpu.chains, &cpu.cand_u, shared_scene, &mut cpu.vertices, &mut cpu.paths);
+    passes::trace::cpu(
+        &params,
+        &cpu.cand_depth,
+        &cpu.cand_u,
+        shared_scene,
+        &mut cpu.vertices,
+        &mut cpu.paths,
+    );
     dev.run(&params, &[(gpu::TRACE, params.candidates)]).unwrap();
     let dev_paths: Vec<PathInfo> = dev.gpu().read(&dev.buffers().paths, c).unwrap();
     let dev_vertices: Vec<PathVertex> = dev.gpu().read(&dev.buffers().vertices, cpu.vertices.len()).unwrap();
@@ -184,6 +218,32 @@ fn difftest(gpu: Gpu, method: Method) {
             );
         }
     }
+    // The device's splat weights are the shared tree / reject-chain weights: a record holds
+    // (F/c)·w, whose luminance is w.
+    let per = params.candidates_per_chain() as usize;
+    let mut checked = 0;
+    for p in 0..n {
+        let mut c = vec![shared::mmlt::luminance(Vec4::from_array(chains[p].contribution).truncate())];
+        c.extend((0..per).map(|k| shared::mmlt::luminance(cpu.contributions[p * per + k].truncate())));
+        let expected = expected_weights(method, &c);
+        for (state, w) in expected.iter().enumerate() {
+            let record = dev_splats[p * (per + 1) + state];
+            let got = if unpack_contribution(record).1 == shared::layout::NO_PIXEL {
+                0.0
+            } else {
+                shared::mmlt::luminance(record.truncate())
+            };
+            // A state with no contribution (c = 0) keeps its weight in the total but splats
+            // nothing.
+            let w = if c[state] > 0.0 { *w } else { 0.0 };
+            // luminance((F/c)·w) = w exactly only while F is a normal float.
+            if same_state[p] && (c[state] == 0.0 || c[state] > 1e-30) {
+                assert!((got - w).abs() <= 1e-4 * w.max(1.0), "chain {p} state {state}: weight {got} vs {w}");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > n);
     let differ =
         cpu.splats[..records].iter().zip(&dev_splats).filter(|(x, y)| !close4(**x, **y, 1e-4)).count();
     println!("{method}: splat records differing: {differ} of {records}");
@@ -207,6 +267,73 @@ fn naive_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("naive_passes_agree_on_device_and_cpu") {
         difftest(gpu, Method::Tree(1));
     }
+}
+
+#[test]
+fn reject_chain_eight_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("reject_chain_eight_passes_agree_on_device_and_cpu") {
+        difftest(gpu, Method::RejectChain(8));
+    }
+}
+
+/// The device's candidate buffer for s3: every candidate of a level carries the same
+/// perturbation. Candidate 3 (level 3 after "reject, reject") moves the root by δ3; candidates
+/// 4, 5, 6 (level 3 after the other histories) move their sources — candidates 1, 0, 2 — by
+/// exactly the same δ3; candidate 2 moves candidate 0 by the δ2 that candidate 1 moved the
+/// root by.
+#[test]
+fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
+    let Some(gpu) =
+        common::gpu_or_skip("speculative_candidates_share_each_levels_perturbation_on_the_device")
+    else {
+        return;
+    };
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
+    let s = Settings {
+        width: 8,
+        height: 8,
+        max_depth: 3,
+        seed: 11,
+        method: Method::Tree(3),
+        budget: Budget::MutationsPerPixel(1.0),
+        candidates: 7 * 64,
+        bootstrap_samples: 64,
+        mutation: Default::default(),
+    };
+    let base = render::base_params(&scene, &s);
+    let (n, c, dims) = (base.chains as usize, base.candidates as usize, base.dims as usize);
+    let mut dev = gpu::GpuBackend::new(gpu, &scene, &base).expect("device buffers");
+    let chain_u: Vec<f32> = (0..n * dims).map(|i| (i as f32 * 0.618_034).fract()).collect();
+    dev.start(&chain_u, &vec![ChainState::default(); n]).unwrap();
+    let params = RenderParams { iteration: 9, ..base };
+    dev.run(&params, &[(gpu::MUTATE, params.candidates)]).unwrap();
+    let u: Vec<f32> = dev.gpu().read(&dev.buffers().cand_u, c * dims).unwrap();
+    // The offset from a to b on the unit circle, in (−0.5, 0.5].
+    let step = |a: f32, b: f32| {
+        let d = b - a;
+        d - d.round()
+    };
+    let mut small = 0;
+    for p in 0..n {
+        if shared::mutation::is_large_step(s.seed, p as u32, 9, base.mutation.p_large) {
+            continue;
+        }
+        small += 1;
+        for d in 0..dims {
+            let cand = |k: usize| u[p * 7 + k + d * c];
+            let root = chain_u[p + d * n];
+            let d3 = step(root, cand(3));
+            for (k, source) in [(4, cand(1)), (5, cand(0)), (6, cand(2))] {
+                assert!((step(source, cand(k)) - d3).abs() < 1e-6, "chain {p} dim {d}: candidate {k}");
+            }
+            assert!(
+                (step(cand(0), cand(2)) - step(root, cand(1))).abs() < 1e-6,
+                "chain {p} dim {d}: level 2"
+            );
+            assert!(d3.abs() <= 1.0 / 64.0 + 1e-6 && d3.abs() >= 1.0 / 1024.0 - 1e-6);
+        }
+    }
+    assert!(small > 20, "{small} chains without a large step");
 }
 
 #[test]

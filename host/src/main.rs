@@ -47,7 +47,8 @@ fn unit_f32(s: &str) -> Result<f32, String> {
 struct RenderArgs {
     /// glTF scene (.gltf or .glb); the embedded Cornell box when absent.
     scene: Option<PathBuf>,
-    /// naive, or s<d> (speculative tree of depth d = 1..8; s1 is naive).
+    /// naive, s<d> (speculative tree of depth d = 1..8; s1 is naive), or rc<l> (reject chain of
+    /// l = 2..64 proposals).
     #[arg(long, default_value = "naive", value_parser = |s: &str| s.parse::<Method>())]
     method: Method,
     /// Stop after this many seconds of iterations (after the bootstrap).

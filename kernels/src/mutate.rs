@@ -1,20 +1,32 @@
 //! The `mutate` pass (seed §5.1): one invocation per candidate builds its primary samples in
-//! the SoA candidate buffer. A chain's 2^d − 1 candidates are adjacent invocations; each level's
-//! perturbation is one draw per (chain, iteration, level, dimension) shared by the whole level
-//! (`shared::mutation::tree_candidate_sample`). In bootstrap mode every candidate is a fresh
-//! independent sample.
+//! the SoA candidate buffer. A chain's candidates are adjacent invocations. For a speculative
+//! tree, each level's perturbation is one draw per (chain, iteration, level, dimension) shared
+//! by the whole level (`shared::mutation::tree_candidate_sample`); for a reject chain, each of
+//! the l proposals is its own mutation of the current state. Each candidate also gets its path
+//! depth: a large step proposes a fresh uniform depth with its fresh samples, small steps keep
+//! the chain's (`shared::mutation::large_step_depth`). In bootstrap mode every candidate is a
+//! fresh independent sample of depth `index mod (max_depth + 1)`.
 
 use shared::layout::soa_index;
-use shared::mmlt::{bootstrap_key, RenderParams, MODE_BOOTSTRAP};
-use shared::mutation::{is_large_step, tree_candidate_sample, tree_level_uniforms};
+use shared::mmlt::{bootstrap_key, ChainState, RenderParams, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP};
+use shared::mutation::{
+    descends_from_level_one, is_large_step, is_reject_large_step, large_step_depth, reject_chain_samples,
+    tree_candidate_sample, tree_level_uniforms,
+};
 use shared::rng::{self, RngKey};
-use shared::tree::candidate_count;
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
 /// The kernel body for candidate `k`. Dimensions are handled four at a time, one random hash
 /// per level serving four dimensions.
-pub fn mutate(k: usize, params: &RenderParams, chain_u: &[f32], cand_u: &mut [f32]) {
+pub fn mutate(
+    k: usize,
+    params: &RenderParams,
+    chains: &[ChainState],
+    chain_u: &[f32],
+    cand_u: &mut [f32],
+    cand_depth: &mut [u32],
+) {
     let k = k as u32;
     if k >= params.candidates {
         return;
@@ -22,6 +34,7 @@ pub fn mutate(k: usize, params: &RenderParams, chain_u: &[f32], cand_u: &mut [f3
     let c = params.candidates;
     let groups = params.dims.div_ceil(4);
     if params.mode == MODE_BOOTSTRAP {
+        cand_depth[k as usize] = (params.sample_offset + k) % (params.max_depth + 1);
         let key = bootstrap_key(params.seed, params.sample_offset + k);
         let mut group = 0;
         while group < groups {
@@ -35,12 +48,48 @@ pub fn mutate(k: usize, params: &RenderParams, chain_u: &[f32], cand_u: &mut [f3
         }
         return;
     }
-    let per_chain = candidate_count(params.tree_depth);
+    let per_chain = params.candidates_per_chain();
     let chain = k / per_chain;
     let j = k % per_chain;
-    let large = is_large_step(params.seed, chain, params.iteration, params.mutation.p_large);
     let key = RngKey { seed: params.seed, chain, iteration: params.iteration, dimension: 0 };
     let mut group = 0;
+    if params.method == METHOD_REJECT_CHAIN {
+        // Proposal j of the reject chain: its own mutation of the current state.
+        let large = is_reject_large_step(params.seed, chain, params.iteration, j, params.mutation.p_large);
+        cand_depth[k as usize] = if large {
+            large_step_depth(
+                params.seed,
+                chain,
+                params.iteration,
+                rng::CONTROL_REJECT_DEPTH + j,
+                params.max_depth,
+            )
+        } else {
+            chains[chain as usize].depth
+        };
+        while group < groups {
+            let mut current = [0.0f32; 4];
+            let mut lane = 0;
+            while lane < 4 && 4 * group + lane < params.dims {
+                current[lane as usize] = chain_u[soa_index(chain, 4 * group + lane, params.chains)];
+                lane += 1;
+            }
+            let out = reject_chain_samples(current, j, large, key, group, &params.mutation);
+            lane = 0;
+            while lane < 4 && 4 * group + lane < params.dims {
+                cand_u[soa_index(k, 4 * group + lane, c)] = out[lane as usize];
+                lane += 1;
+            }
+            group += 1;
+        }
+        return;
+    }
+    let large = is_large_step(params.seed, chain, params.iteration, params.mutation.p_large);
+    cand_depth[k as usize] = if large && descends_from_level_one(j) {
+        large_step_depth(params.seed, chain, params.iteration, rng::CONTROL_DEPTH, params.max_depth)
+    } else {
+        chains[chain as usize].depth
+    };
     while group < groups {
         let u = tree_level_uniforms(key, j, large, group);
         let mut lane = 0;
@@ -60,8 +109,10 @@ pub fn mutate(k: usize, params: &RenderParams, chain_u: &[f32], cand_u: &mut [f3
 pub fn mutate_cs(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] chain_u: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] cand_u: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] chains: &[ChainState],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] chain_u: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] cand_u: &mut [f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] cand_depth: &mut [u32],
 ) {
-    mutate(id.x as usize, &params[0], chain_u, cand_u);
+    mutate(id.x as usize, &params[0], chains, chain_u, cand_u, cand_depth);
 }

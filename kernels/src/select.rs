@@ -1,24 +1,159 @@
-//! The `select` pass (seed §5.3): one invocation per chain evaluates its speculative tree of
-//! depth d (d = 1: the naive parallel MMLT) over the targets c = luminance(F) of the current
-//! state and its candidates, writes one splat per distinct state (F/c times its expected-steps
-//! weight, the pixel as bits; zero-weight and invalid states get `NO_PIXEL`), draws the next
-//! state from the leaf probabilities and moves the chain there.
+//! The `select` pass (seed §5.3): one invocation per chain evaluates the acceptance of its
+//! candidates over the targets c = luminance(F) — as a speculative tree of depth d (d = 1: the
+//! naive parallel MMLT) or as a reject chain of l proposals — writes one splat per distinct
+//! state (F/c times its expected-steps weight, the pixel as bits; zero-weight and invalid
+//! states get `NO_PIXEL`), draws the next state and moves the chain there (samples,
+//! contribution and path depth).
 
 use shared::acceptance::is_valid_target;
 use shared::layout::{pack_contribution, soa_index, unpack_contribution, NO_PIXEL};
-use shared::mmlt::{luminance, ChainState, RenderParams};
+use shared::mmlt::{luminance, ChainState, RenderParams, METHOD_REJECT_CHAIN};
+use shared::reject_chain::{self, MAX_REJECT_CHAIN, MAX_REJECT_CHAIN_STATES};
 use shared::rng::{self, RngKey};
-use shared::tree::{self, candidate_count, MAX_TREE_CANDIDATES, MAX_TREE_LEAVES, MAX_TREE_STATES};
+use shared::tree::{self, MAX_TREE_CANDIDATES, MAX_TREE_LEAVES, MAX_TREE_STATES};
 use spirv_std::glam::{UVec3, Vec3, Vec4};
 use spirv_std::spirv;
 
+/// The splat record of a state with contribution `v` (F, pixel bits), target `c` and weight
+/// `w`: (F/c)·w — F/c is bounded, unlike w/c, which overflows for a denormal c — or an empty
+/// record when the state has no weight or is invalid.
+#[inline]
+pub fn splat_record(v: Vec4, c: f32, w: f32) -> Vec4 {
+    let (rgb, pixel) = unpack_contribution(v);
+    let value = (rgb / c) * w;
+    let finite = is_valid_target(value.x) && is_valid_target(value.y) && is_valid_target(value.z);
+    if w > 0.0 && c > 0.0 && is_valid_target(c) && finite {
+        pack_contribution(value, 1.0, pixel)
+    } else {
+        pack_contribution(Vec3::ZERO, 0.0, NO_PIXEL)
+    }
+}
+
+/// What selection decided for one chain.
+struct Decision {
+    /// 0: stay; s ≥ 1: move to candidate s − 1.
+    next: u32,
+    /// Expected accepted steps of this iteration.
+    accepted: f32,
+    /// Expected steps of this iteration (the total splat weight).
+    steps: f32,
+    /// Candidates with a NaN or infinite target.
+    invalid: u32,
+}
+
+/// The uniform that draws the next state.
+fn selection_uniform(params: &RenderParams, p: u32) -> f32 {
+    rng::uniform(RngKey {
+        seed: params.seed,
+        chain: p,
+        iteration: params.iteration,
+        dimension: rng::dimension(rng::STREAM_CONTROL, rng::CONTROL_SELECT),
+    })
+}
+
+fn count_invalid<const N: usize>(c: &[f32; N], from: usize, to: usize) -> u32 {
+    let mut n = 0;
+    let mut i = from;
+    while i < to {
+        if !is_valid_target(c[i]) {
+            n += 1;
+        }
+        i += 1;
+    }
+    n
+}
+
+/// The speculative tree: Eq. 2 leaf probabilities, generalised Eq. 3 weights.
+fn select_tree(
+    p: u32,
+    params: &RenderParams,
+    root: Vec4,
+    contributions: &[Vec4],
+    splats: &mut [Vec4],
+) -> Decision {
+    let d = params.tree_depth;
+    let states = params.states_per_chain();
+    let base = p * (states - 1);
+    let mut c = [0.0f32; MAX_TREE_STATES];
+    c[0] = luminance(root.truncate());
+    let mut s = 1u32;
+    while s < states {
+        c[s as usize] = luminance(contributions[(base + s - 1) as usize].truncate());
+        s += 1;
+    }
+    let mut accept = [0.0f32; MAX_TREE_CANDIDATES];
+    let mut leaf = [0.0f32; MAX_TREE_LEAVES];
+    let mut weight = [0.0f32; MAX_TREE_STATES];
+    tree::evaluate_tree(d, &c, &mut accept, &mut leaf, &mut weight);
+    let mut accepted = 0.0f32;
+    s = 0;
+    while s < states {
+        let v = if s == 0 { root } else { contributions[(base + s - 1) as usize] };
+        splats[(p * states + s) as usize] = splat_record(v, c[s as usize], weight[s as usize]);
+        // Leaf s (a history of d decisions) has popcount(s) acceptances.
+        let mut bits = s;
+        let mut ones = 0u32;
+        while bits > 0 {
+            ones += bits & 1;
+            bits >>= 1;
+        }
+        accepted += ones as f32 * leaf[s as usize];
+        s += 1;
+    }
+    Decision {
+        next: tree::select_next_state(d, &leaf, selection_uniform(params, p)),
+        accepted,
+        steps: d as f32,
+        invalid: count_invalid(&c, 1, states as usize),
+    }
+}
+
+/// The reject chain: next-state probabilities R_i·a_i, expected-steps weights.
+fn select_reject_chain(
+    p: u32,
+    params: &RenderParams,
+    root: Vec4,
+    contributions: &[Vec4],
+    splats: &mut [Vec4],
+) -> Decision {
+    let l = params.reject_length;
+    let states = l + 1;
+    let base = p * l;
+    let mut c = [0.0f32; MAX_REJECT_CHAIN_STATES];
+    c[0] = luminance(root.truncate());
+    let mut s = 1u32;
+    while s < states {
+        c[s as usize] = luminance(contributions[(base + s - 1) as usize].truncate());
+        s += 1;
+    }
+    let mut accept = [0.0f32; MAX_REJECT_CHAIN as usize];
+    let mut next = [0.0f32; MAX_REJECT_CHAIN_STATES];
+    let mut weight = [0.0f32; MAX_REJECT_CHAIN_STATES];
+    let steps = reject_chain::evaluate_reject_chain(l, &c, &mut accept, &mut next, &mut weight);
+    s = 0;
+    while s < states {
+        let v = if s == 0 { root } else { contributions[(base + s - 1) as usize] };
+        splats[(p * states + s) as usize] = splat_record(v, c[s as usize], weight[s as usize]);
+        s += 1;
+    }
+    Decision {
+        next: reject_chain::select_next_state(l, &next, selection_uniform(params, p)),
+        // The chain moves (accepts once) with probability 1 − R_{l+1}.
+        accepted: 1.0 - next[0],
+        steps,
+        invalid: count_invalid(&c, 1, states as usize),
+    }
+}
+
 /// The kernel body for chain `p`.
+#[allow(clippy::too_many_arguments)] // one slice per binding, as the entry point hands them over
 pub fn select(
     p: usize,
     params: &RenderParams,
     chains: &mut [ChainState],
     chain_u: &mut [f32],
     cand_u: &[f32],
+    cand_depth: &[u32],
     contributions: &[Vec4],
     splats: &mut [Vec4],
 ) {
@@ -26,78 +161,31 @@ pub fn select(
     if p >= params.chains {
         return;
     }
-    let d = params.tree_depth;
-    let per_chain = candidate_count(d);
-    let states = per_chain + 1;
-    let base = p * per_chain;
     let mut state = chains[p as usize];
     let root = Vec4::from_array(state.contribution);
-    let mut c = [0.0f32; MAX_TREE_STATES];
-    c[0] = luminance(root.truncate());
-    let mut invalid = 0u32;
-    let mut k = 0u32;
-    while k < per_chain {
-        let v = contributions[(base + k) as usize];
-        let ck = luminance(v.truncate());
-        if !is_valid_target(ck) {
-            invalid += 1;
-        }
-        c[(k + 1) as usize] = ck;
-        k += 1;
-    }
-    let mut accept = [0.0f32; MAX_TREE_CANDIDATES];
-    let mut leaf = [0.0f32; MAX_TREE_LEAVES];
-    let mut weight = [0.0f32; MAX_TREE_STATES];
-    tree::evaluate_tree(d, &c, &mut accept, &mut leaf, &mut weight);
-    let mut s = 0u32;
-    let mut expected_accepts = 0.0f32;
-    while s < states {
-        let v = if s == 0 { root } else { contributions[(base + s - 1) as usize] };
-        let (rgb, pixel) = unpack_contribution(v);
-        let w = weight[s as usize];
-        let cs = c[s as usize];
-        // F/c is bounded (each channel ≤ 1/0.0722 for non-negative F), unlike w/c, which
-        // overflows for a denormal c; so divide first.
-        let value = (rgb / cs) * w;
-        let finite = is_valid_target(value.x) && is_valid_target(value.y) && is_valid_target(value.z);
-        let splat = if w > 0.0 && cs > 0.0 && is_valid_target(cs) && finite {
-            pack_contribution(value, 1.0, pixel)
-        } else {
-            pack_contribution(Vec3::ZERO, 0.0, NO_PIXEL)
-        };
-        splats[(p * states + s) as usize] = splat;
-        // Leaves with more acceptances in their history: Σ popcount(leaf) · P(leaf).
-        let mut bits = s;
-        let mut ones = 0u32;
-        while bits > 0 {
-            ones += bits & 1;
-            bits >>= 1;
-        }
-        expected_accepts += ones as f32 * leaf[s as usize];
-        s += 1;
-    }
-    let key = RngKey {
-        seed: params.seed,
-        chain: p,
-        iteration: params.iteration,
-        dimension: rng::dimension(rng::STREAM_CONTROL, rng::CONTROL_SELECT),
+    let decision = if params.method == METHOD_REJECT_CHAIN {
+        select_reject_chain(p, params, root, contributions, splats)
+    } else {
+        select_tree(p, params, root, contributions, splats)
     };
-    let next = tree::select_next_state(d, &leaf, rng::uniform(key));
-    if next > 0 {
-        let cand = base + next - 1;
+    if decision.next > 0 {
+        let cand = p * params.candidates_per_chain() + decision.next - 1;
         let mut dim = 0;
         while dim < params.dims {
             chain_u[soa_index(p, dim, params.chains)] = cand_u[soa_index(cand, dim, params.candidates)];
             dim += 1;
         }
         state.contribution = contributions[cand as usize].to_array();
+        state.depth = cand_depth[cand as usize];
     }
-    state.accepted += expected_accepts;
-    state.invalid += invalid;
+    state.accepted += decision.accepted;
+    state.steps += decision.steps;
+    state.invalid += decision.invalid;
     chains[p as usize] = state;
 }
 
 /// Entry point: one invocation per chain.
+#[allow(clippy::too_many_arguments)]
 #[spirv(compute(threads(64), entry_point_name = "select_cs"))]
 pub fn select_cs(
     #[spirv(global_invocation_id)] id: UVec3,
@@ -105,8 +193,9 @@ pub fn select_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] chains: &mut [ChainState],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] chain_u: &mut [f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] cand_u: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] contributions: &[Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] splats: &mut [Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] cand_depth: &[u32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] contributions: &[Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] splats: &mut [Vec4],
 ) {
-    select(id.x as usize, &params[0], chains, chain_u, cand_u, contributions, splats);
+    select(id.x as usize, &params[0], chains, chain_u, cand_u, cand_depth, contributions, splats);
 }

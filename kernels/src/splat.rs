@@ -8,9 +8,9 @@ use shared::mmlt::RenderParams;
 use spirv_std::glam::{UVec3, Vec4};
 use spirv_std::spirv;
 
-/// Number of splat records of a dispatch: one per distinct state of every chain's tree.
+/// Number of splat records of a dispatch: one per distinct state of every chain.
 pub fn splat_records(params: &RenderParams) -> u32 {
-    params.chains * (1u32 << params.tree_depth)
+    params.chains * params.states_per_chain()
 }
 
 /// Adds `value` to the float stored as bits at `image[index]`.

@@ -4,10 +4,7 @@
 use shared::bsdf::Material;
 use shared::bvh::{BvhNode, Triangle};
 use shared::light::LightEntry;
-use shared::mmlt::{
-    trace_candidate, ChainState, PathInfo, PathVertex, RenderParams, Samples, Scene, MODE_BOOTSTRAP,
-};
-use shared::tree::candidate_count;
+use shared::mmlt::{trace_candidate, PathInfo, PathVertex, RenderParams, Samples, Scene};
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
@@ -16,7 +13,7 @@ use spirv_std::spirv;
 pub fn trace(
     k: usize,
     params: &RenderParams,
-    chains: &[ChainState],
+    cand_depth: &[u32],
     cand_u: &[f32],
     scene: Scene,
     vertices: &mut [PathVertex],
@@ -26,11 +23,7 @@ pub fn trace(
     if k >= params.candidates {
         return;
     }
-    let depth = if params.mode == MODE_BOOTSTRAP {
-        (params.sample_offset + k) % (params.max_depth + 1)
-    } else {
-        chains[(k / candidate_count(params.tree_depth)) as usize].depth
-    };
+    let depth = cand_depth[k as usize];
     let samples = Samples { candidate: k, count: params.candidates };
     paths[k as usize] = trace_candidate(params, scene, cand_u, samples, depth, vertices);
 }
@@ -41,7 +34,7 @@ pub fn trace(
 pub fn trace_cs(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] chains: &[ChainState],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] cand_depth: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] cand_u: &[f32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] nodes: &[BvhNode],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] triangles: &[Triangle],
@@ -51,5 +44,5 @@ pub fn trace_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] paths: &mut [PathInfo],
 ) {
     let scene = Scene { nodes, triangles, materials, lights };
-    trace(id.x as usize, &params[0], chains, cand_u, scene, vertices, paths);
+    trace(id.x as usize, &params[0], cand_depth, cand_u, scene, vertices, paths);
 }

@@ -140,8 +140,35 @@ pub struct RenderParams {
     pub sample_offset: u32,
     /// Ray-origin offset, relative to the scene's size.
     pub epsilon: f32,
+    /// [`METHOD_TREE`] or [`METHOD_REJECT_CHAIN`].
+    pub method: u32,
+    /// Reject-chain length l (proposals per chain and iteration).
+    pub reject_length: u32,
     /// Padding.
-    pub _pad: [u32; 3],
+    pub _pad: u32,
+}
+
+/// Chains evaluate a speculative tree of depth `tree_depth` (1: the naive method).
+pub const METHOD_TREE: u32 = 0;
+/// Chains evaluate a reject chain of `reject_length` proposals.
+pub const METHOD_REJECT_CHAIN: u32 = 1;
+
+impl RenderParams {
+    /// Candidates traced per chain and iteration: 2^d − 1 or l.
+    #[inline]
+    pub fn candidates_per_chain(&self) -> u32 {
+        if self.method == METHOD_REJECT_CHAIN {
+            self.reject_length
+        } else {
+            crate::tree::candidate_count(self.tree_depth)
+        }
+    }
+
+    /// Distinct states (splat records) per chain: the current state and every candidate.
+    #[inline]
+    pub fn states_per_chain(&self) -> u32 {
+        self.candidates_per_chain() + 1
+    }
 }
 
 /// The state of one chain besides its primary samples (uploaded and updated on the device).
@@ -156,8 +183,9 @@ pub struct ChainState {
     pub accepted: f32,
     /// Candidates rejected because their contribution was NaN or infinite.
     pub invalid: u32,
-    /// Padding.
-    pub _pad: u32,
+    /// Expected Markov steps advanced since the host last drained the image (the splat weight
+    /// written: d per iteration for a tree, Σ R_i for a reject chain).
+    pub steps: f32,
 }
 
 /// One subpath vertex (stored SoA: slot i of candidate k at `k + i·C`).

@@ -159,6 +159,64 @@ pub fn tree_level_uniforms(key: RngKey, j: u32, large_step: bool, group: u32) ->
     out
 }
 
+/// The path depth a large step proposes: uniform over 0..=max_depth, drawn with the control
+/// uniform `control` of (chain, iteration). With the depth part of the chain's state and
+/// proposed uniformly with the fresh samples, the large step stays an independent, symmetric
+/// proposal over (u, depth), and every chain samples one target ∝ c(u, depth) whose
+/// normalisation is b = (max_depth + 1) · E[c] — so chains that advance different numbers of
+/// steps per iteration (reject chains) can share one image normalisation.
+#[inline]
+pub fn large_step_depth(seed: u32, chain: u32, iteration: u32, control: u32, max_depth: u32) -> u32 {
+    let key = RngKey { seed, chain, iteration, dimension: rng::dimension(rng::STREAM_CONTROL, control) };
+    ((rng::uniform(key) * (max_depth + 1) as f32) as u32).min(max_depth)
+}
+
+/// Whether tree candidate `j` descends through an accepted level-1 proposal (or is it), so
+/// that a level-1 large step's depth applies to it.
+#[inline]
+pub fn descends_from_level_one(j: u32) -> bool {
+    let level = crate::tree::candidate_level(j);
+    level == 1 || (crate::tree::candidate_history(j) >> (level - 2)) & 1 == 1
+}
+
+/// Whether reject-chain proposal `i` (0-based) of `chain` at `iteration` is a large step:
+/// each proposal is an independent Kelemen mutation of the current state.
+#[inline]
+pub fn is_reject_large_step(seed: u32, chain: u32, iteration: u32, i: u32, p_large: f32) -> bool {
+    let key = RngKey {
+        seed,
+        chain,
+        iteration,
+        dimension: rng::dimension(rng::STREAM_CONTROL, rng::CONTROL_REJECT_LARGE_STEP + i),
+    };
+    rng::uniform(key) < p_large
+}
+
+/// Dimensions `4·group .. 4·group + 4` of reject-chain proposal `i` of the chain named by
+/// `key`, whose current values are `current`: a fresh uniform for a large step, else a small
+/// step by the proposal's own offset.
+#[inline]
+pub fn reject_chain_samples(
+    current: [f32; 4],
+    i: u32,
+    large_step: bool,
+    key: RngKey,
+    group: u32,
+    params: &MutationParams,
+) -> [f32; 4] {
+    if large_step {
+        return rng::uniform4(key, rng::STREAM_REJECT_LARGE_STEP + i, group);
+    }
+    let u = rng::uniform4(key, rng::STREAM_REJECT_PERTURBATION + i, group);
+    let mut out = [0.0f32; 4];
+    let mut lane = 0;
+    while lane < 4 {
+        out[lane] = small_step(current[lane], small_step_offset_log(u[lane], params.s2, params.log_ratio));
+        lane += 1;
+    }
+    out
+}
+
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests {
     use super::*;
@@ -192,6 +250,22 @@ mod tests {
         }
         // Lanes are different dimensions: different offsets.
         assert_ne!(sample(root, 0, false, key, 4), sample(root, 0, false, key, 5));
+    }
+
+    #[test]
+    fn level_one_descendants() {
+        // d = 3: candidate 0 is level 1; 2 (history 1), 5 (10) and 6 (11) follow its acceptance.
+        let followers: Vec<u32> = (0..7).filter(|&j| descends_from_level_one(j)).collect();
+        assert_eq!(followers, vec![0, 2, 5, 6]);
+    }
+
+    #[test]
+    fn large_step_depths_are_uniform() {
+        let mut counts = [0u32; 4];
+        for chain in 0..40_000 {
+            counts[large_step_depth(1, chain, 2, rng::CONTROL_DEPTH, 3) as usize] += 1;
+        }
+        assert!(counts.iter().all(|&c| (c as f64 - 10_000.0).abs() < 500.0), "{counts:?}");
     }
 
     #[test]

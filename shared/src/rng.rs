@@ -28,6 +28,10 @@ pub const STREAM_PERTURBATION: u32 = 0;
 pub const STREAM_LARGE_STEP: u32 = 16;
 /// Stream of the per-iteration decisions: large step or not, and the draw of the next state.
 pub const STREAM_CONTROL: u32 = 17;
+/// Streams of the perturbations of reject-chain proposal i (0-based; i < 64 is added).
+pub const STREAM_REJECT_PERTURBATION: u32 = 32;
+/// Streams of the large-step uniforms of reject-chain proposal i (i < 64 is added).
+pub const STREAM_REJECT_LARGE_STEP: u32 = 96;
 /// Stream used by the device self-test.
 pub const STREAM_SELFTEST: u32 = 255;
 
@@ -37,6 +41,15 @@ pub const CONTROL_LARGE_STEP: u32 = 0;
 pub const CONTROL_SELECT: u32 = 1;
 /// Index within [`STREAM_CONTROL`]: the uniform that picks a chain's bootstrap sample.
 pub const CONTROL_BOOTSTRAP_PICK: u32 = 2;
+/// Index within [`STREAM_CONTROL`]: the uniform that picks the path depth of a tree's level-1
+/// large step.
+pub const CONTROL_DEPTH: u32 = 3;
+/// Index within [`STREAM_CONTROL`] of the large-step decision of reject-chain proposal i
+/// (i < 64 is added).
+pub const CONTROL_REJECT_LARGE_STEP: u32 = 16;
+/// Index within [`STREAM_CONTROL`] of the uniform picking the path depth of reject-chain
+/// proposal i's large step (i < 64 is added).
+pub const CONTROL_REJECT_DEPTH: u32 = 128;
 
 /// Packs a stream (high 8 bits) and an index within it (low 24 bits) into a dimension word.
 #[inline]

@@ -19,6 +19,7 @@ pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
             (&b.chains, false),
             (&b.chain_u, false),
             (&b.cand_u, true),
+            (&b.cand_depth, true),
             (&b.contributions, true),
             (&b.splats, false),
         ],
@@ -31,10 +32,11 @@ pub fn cpu(
     chains: &mut [ChainState],
     chain_u: &mut [f32],
     cand_u: &[f32],
+    cand_depth: &[u32],
     contributions: &[Vec4],
     splats: &mut [Vec4],
 ) {
     for p in 0..params.chains as usize {
-        select(p, params, chains, chain_u, cand_u, contributions, splats);
+        select(p, params, chains, chain_u, cand_u, cand_depth, contributions, splats);
     }
 }

@@ -1,8 +1,8 @@
-//! The `trace` pass: binds params, chain states, candidate samples, the scene, and writes
+//! The `trace` pass: binds params, candidate depths and samples, the scene, and writes
 //! the vertex and path-info buffers.
 
 use kernels::trace::trace;
-use shared::mmlt::{ChainState, PathInfo, PathVertex, RenderParams, Scene};
+use shared::mmlt::{PathInfo, PathVertex, RenderParams, Scene};
 
 use super::Pass;
 use crate::gpu::{Gpu, GpuError};
@@ -15,7 +15,7 @@ pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
         "trace_cs",
         &[
             (&b.params, true),
-            (&b.chains, true),
+            (&b.cand_depth, true),
             (&b.cand_u, true),
             (&b.nodes, true),
             (&b.triangles, true),
@@ -30,13 +30,13 @@ pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
 /// The same body on the CPU, over every candidate.
 pub fn cpu(
     params: &RenderParams,
-    chains: &[ChainState],
+    cand_depth: &[u32],
     cand_u: &[f32],
     scene: Scene,
     vertices: &mut [PathVertex],
     paths: &mut [PathInfo],
 ) {
     for k in 0..params.candidates as usize {
-        trace(k, params, chains, cand_u, scene, vertices, paths);
+        trace(k, params, cand_depth, cand_u, scene, vertices, paths);
     }
 }

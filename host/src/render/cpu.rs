@@ -16,6 +16,8 @@ pub struct CpuBackend<'a> {
     pub chains: Vec<ChainState>,
     /// Candidate samples, SoA.
     pub cand_u: Vec<f32>,
+    /// Candidate path depths.
+    pub cand_depth: Vec<u32>,
     /// Subpath vertices, SoA.
     pub vertices: Vec<PathVertex>,
     /// Path infos.
@@ -38,6 +40,7 @@ impl<'a> CpuBackend<'a> {
             chain_u: vec![0.0; n * dims],
             chains: vec![ChainState::default(); n],
             cand_u: vec![0.0; c * dims],
+            cand_depth: vec![0; c],
             vertices: vec![PathVertex::default(); c * vertex_slots(params.max_depth) as usize],
             paths: vec![PathInfo::default(); c],
             contributions: vec![Vec4::ZERO; c],
@@ -58,8 +61,15 @@ impl<'a> CpuBackend<'a> {
     /// The mutate, trace and connect passes.
     pub fn candidates_pass(&mut self, params: &RenderParams) {
         let scene = self.scene();
-        passes::mutate::cpu(params, &self.chain_u, &mut self.cand_u);
-        passes::trace::cpu(params, &self.chains, &self.cand_u, scene, &mut self.vertices, &mut self.paths);
+        passes::mutate::cpu(params, &self.chains, &self.chain_u, &mut self.cand_u, &mut self.cand_depth);
+        passes::trace::cpu(
+            params,
+            &self.cand_depth,
+            &self.cand_u,
+            scene,
+            &mut self.vertices,
+            &mut self.paths,
+        );
         passes::connect::cpu(
             params,
             &self.cand_u,
@@ -77,6 +87,7 @@ impl<'a> CpuBackend<'a> {
             &mut self.chains,
             &mut self.chain_u,
             &self.cand_u,
+            &self.cand_depth,
             &self.contributions,
             &mut self.splats,
         );
@@ -102,12 +113,17 @@ impl Backend for CpuBackend<'_> {
         Ok(())
     }
 
-    fn drain(&mut self, image: &mut [f64]) -> Result<(), RenderError> {
+    fn drain(&mut self, image: &mut [f64]) -> Result<f64, RenderError> {
         for (acc, v) in image.iter_mut().zip(self.image.iter_mut()) {
             *acc += *v;
             *v = 0.0;
         }
-        Ok(())
+        let mut steps = 0.0;
+        for chain in &mut self.chains {
+            steps += chain.steps as f64;
+            chain.steps = 0.0;
+        }
+        Ok(steps)
     }
 
     fn chain_states(&mut self) -> Result<Vec<ChainState>, RenderError> {

@@ -18,6 +18,8 @@ pub struct GpuBuffers {
     pub chains: wgpu::Buffer,
     /// Candidate samples, SoA (`k + i·C`).
     pub cand_u: wgpu::Buffer,
+    /// Candidate path depths.
+    pub cand_depth: wgpu::Buffer,
     /// BVH nodes.
     pub nodes: wgpu::Buffer,
     /// Triangles.
@@ -58,12 +60,13 @@ pub fn buffer_sizes(scene: &SceneData, p: &RenderParams) -> Vec<(&'static str, u
         ("chain samples", n * p.dims as u64 * 4),
         ("chain states", n * std::mem::size_of::<ChainState>() as u64),
         ("candidate samples", c * p.dims as u64 * 4),
+        ("candidate depths", c * 4),
         ("BVH nodes", std::mem::size_of_val(&scene.nodes[..]) as u64),
         ("triangles", std::mem::size_of_val(&scene.triangles[..]) as u64),
         ("vertices", c * vertex_slots(p.max_depth) as u64 * std::mem::size_of::<PathVertex>() as u64),
         ("path infos", c * std::mem::size_of::<PathInfo>() as u64),
         ("contributions", c * 16),
-        ("splat records", n * (1u64 << p.tree_depth) * 16),
+        ("splat records", n * p.states_per_chain() as u64 * 16),
         ("image", p.width as u64 * p.height as u64 * 12),
     ]
 }
@@ -101,6 +104,7 @@ impl GpuBackend {
             chain_u: gpu.storage_zeroed::<f32>("chain samples", n * dims),
             chains: gpu.storage_zeroed::<ChainState>("chain states", n),
             cand_u: gpu.storage_zeroed::<f32>("candidate samples", c * dims),
+            cand_depth: gpu.storage_zeroed::<u32>("candidate depths", c),
             nodes: gpu.storage_from("BVH nodes", &scene.nodes),
             triangles: gpu.storage_from("triangles", &scene.triangles),
             materials: gpu.storage_from("materials", &scene.materials),
@@ -187,7 +191,7 @@ impl Backend for GpuBackend {
         self.run(params, &[(MUTATE, c), (TRACE, c), (CONNECT, c), (SELECT, n), (SPLAT, r)])
     }
 
-    fn drain(&mut self, image: &mut [f64]) -> Result<(), RenderError> {
+    fn drain(&mut self, image: &mut [f64]) -> Result<f64, RenderError> {
         let bits: Vec<u32> = self.gpu.read(&self.buffers.image, self.pixels * 3)?;
         for (acc, b) in image.iter_mut().zip(&bits) {
             *acc += f32::from_bits(*b) as f64;
@@ -195,7 +199,15 @@ impl Backend for GpuBackend {
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&self.buffers.image, 0, None);
         self.gpu.queue.submit([encoder.finish()]);
-        Ok(())
+        // The chains' step counts since the last drain, then reset (no kernel runs meanwhile).
+        let mut chains: Vec<ChainState> = self.gpu.read(&self.buffers.chains, self.chains as usize)?;
+        let mut steps = 0.0;
+        for chain in &mut chains {
+            steps += chain.steps as f64;
+            chain.steps = 0.0;
+        }
+        self.gpu.queue.write_buffer(&self.buffers.chains, 0, bytemuck::cast_slice(&chains));
+        Ok(steps)
     }
 
     fn chain_states(&mut self) -> Result<Vec<ChainState>, RenderError> {

@@ -13,9 +13,10 @@ use std::time::Instant;
 use glam::Vec4;
 use shared::mmlt::{
     bootstrap_sample, luminance, sample_dimensions, ChainState, RenderParams, BOOTSTRAP_ITERATION,
-    MODE_BOOTSTRAP, MODE_CHAINS,
+    METHOD_REJECT_CHAIN, METHOD_TREE, MODE_BOOTSTRAP, MODE_CHAINS,
 };
 use shared::mutation::MutationParams;
+use shared::reject_chain::MAX_REJECT_CHAIN;
 use shared::rng::{self, RngKey};
 use shared::tree::{candidate_count, MAX_TREE_DEPTH};
 
@@ -26,6 +27,8 @@ use crate::scene::SceneData;
 pub enum Method {
     /// Speculative tree of depth d (`s<d>`); d = 1 is the naive parallel MMLT (`naive`).
     Tree(u32),
+    /// Reject chain of l proposals (`rc<l>`).
+    RejectChain(u32),
 }
 
 impl Method {
@@ -33,13 +36,15 @@ impl Method {
     pub fn candidates_per_chain(&self) -> u32 {
         match self {
             Method::Tree(d) => candidate_count(*d),
+            Method::RejectChain(l) => *l,
         }
     }
 
-    /// Tree depth handed to the kernels.
+    /// Tree depth handed to the kernels (1 for a reject chain, unused there).
     pub fn tree_depth(&self) -> u32 {
         match self {
             Method::Tree(d) => *d,
+            Method::RejectChain(_) => 1,
         }
     }
 }
@@ -49,6 +54,7 @@ impl std::fmt::Display for Method {
         match self {
             Method::Tree(1) => write!(f, "naive"),
             Method::Tree(d) => write!(f, "s{d}"),
+            Method::RejectChain(l) => write!(f, "rc{l}"),
         }
     }
 }
@@ -67,12 +73,15 @@ impl FromStr for Method {
                 )),
             };
         }
-        if s.starts_with("rc") {
-            return Err(format!(
-                "'{s}': the reject-chain methods are not implemented yet; use naive or s1..s8"
-            ));
+        if let Some(l) = s.strip_prefix("rc") {
+            return match l.parse::<u32>() {
+                Ok(l) if (2..=MAX_REJECT_CHAIN).contains(&l) => Ok(Method::RejectChain(l)),
+                _ => Err(format!("'{s}': the reject-chain length must be 2..={MAX_REJECT_CHAIN} (rc2..rc{MAX_REJECT_CHAIN})")),
+            };
         }
-        Err(format!("'{s}' is not a method: use naive or s<d> with d in 1..={MAX_TREE_DEPTH}"))
+        Err(format!(
+            "'{s}' is not a method: use naive, s<d> with d in 1..={MAX_TREE_DEPTH}, or rc<l> with l in 2..={MAX_REJECT_CHAIN}"
+        ))
     }
 }
 
@@ -142,6 +151,15 @@ pub struct Stats {
     pub render_seconds: f64,
 }
 
+impl Stats {
+    /// These statistics with the wall-clock times of `other` (to compare the rest exactly).
+    pub fn with_times_of(mut self, other: &Stats) -> Stats {
+        self.bootstrap_seconds = other.bootstrap_seconds;
+        self.render_seconds = other.render_seconds;
+        self
+    }
+}
+
 /// A finished render.
 #[derive(Clone, Debug)]
 pub struct Rendered {
@@ -177,8 +195,10 @@ pub trait Backend {
     fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError>;
     /// One iteration of every chain.
     fn iterate(&mut self, params: &RenderParams) -> Result<(), RenderError>;
-    /// Adds the splats accumulated since the last drain into `image` (rgb, f64) and clears them.
-    fn drain(&mut self, image: &mut [f64]) -> Result<(), RenderError>;
+    /// Adds the splats accumulated since the last drain into `image` (rgb, f64) and clears
+    /// them; returns the chains' expected steps since the last drain (their total weight) and
+    /// resets those too.
+    fn drain(&mut self, image: &mut [f64]) -> Result<f64, RenderError>;
     /// The chains' states.
     fn chain_states(&mut self) -> Result<Vec<ChainState>, RenderError>;
     /// A description of the device.
@@ -204,7 +224,15 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
         mode: MODE_CHAINS,
         sample_offset: 0,
         epsilon: scene.epsilon(),
-        _pad: [0; 3],
+        method: match s.method {
+            Method::Tree(_) => METHOD_TREE,
+            Method::RejectChain(_) => METHOD_REJECT_CHAIN,
+        },
+        reject_length: match s.method {
+            Method::RejectChain(l) => l,
+            Method::Tree(_) => 0,
+        },
+        _pad: 0,
     }
 }
 
@@ -290,13 +318,11 @@ pub fn render(
     // Iterations.
     let mut image = vec![0.0f64; pixels as usize * 3];
     let start = Instant::now();
-    let steps_per_iteration = n as f64 * s.method.tree_depth() as f64;
     loop {
         let params = RenderParams { iteration: stats.iterations as u32, ..base };
         backend.iterate(&params)?;
         stats.iterations += 1;
         stats.candidates += c as u64;
-        stats.steps += steps_per_iteration;
         let elapsed = start.elapsed().as_secs_f64();
         let fraction = match s.budget {
             Budget::Seconds(t) => elapsed / t,
@@ -304,7 +330,7 @@ pub fn render(
         };
         let done = fraction >= 1.0;
         if done || stats.iterations.is_multiple_of(DRAIN_EVERY) {
-            backend.drain(&mut image)?;
+            stats.steps += backend.drain(&mut image)?;
             progress(fraction.min(1.0));
         }
         if done {
