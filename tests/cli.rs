@@ -109,3 +109,111 @@ fn bad_input_gets_one_line_and_no_output() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Odd image sizes and candidate counts that do not divide the workgroup size (64) or the tree:
+/// the render finishes with a finite, non-negative image of exactly the asked size.
+#[test]
+fn odd_sizes_and_chain_counts_on_the_device() {
+    if common::gpu_or_skip("odd_sizes_and_chain_counts_on_the_device").is_none() {
+        return;
+    }
+    let dir = temp_dir("odd");
+    for (w, h, method, candidates) in
+        [(1, 1, "naive", "1000"), (1, 37, "s3", "1000"), (1023, 7, "rc8", "999")]
+    {
+        let exr = dir.join(format!("{w}x{h}.exr"));
+        let (ws, hs) = (w.to_string(), h.to_string());
+        let args = [
+            "render",
+            "--width",
+            &ws,
+            "--height",
+            &hs,
+            "--method",
+            method,
+            "--candidates",
+            candidates,
+            "--mutations-per-pixel",
+            "4",
+            "--bootstrap",
+            "2048",
+            "--out",
+            exr.to_str().unwrap(),
+        ];
+        let (ok, _, stderr) = smlt(&args);
+        assert!(ok, "{w}×{h} {method}: {stderr}");
+        let (rw, rh, rgb) = smlt::output::read_exr(&exr).unwrap();
+        assert_eq!((rw, rh), (w, h));
+        assert!(rgb.iter().all(|v| v.is_finite() && *v >= 0.0));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Device-dependent bad input: more than the device's buffer limits (the error names the
+/// limit), and no Vulkan adapter at all (the error says how to install lavapipe).
+#[test]
+fn device_limits_and_a_missing_adapter_are_one_line_errors() {
+    let dir = temp_dir("limits");
+    let out = dir.join("x.exr");
+    let out_s = out.to_str().unwrap();
+    if common::gpu_or_skip("device_limits_and_a_missing_adapter_are_one_line_errors").is_some() {
+        for args in [
+            vec!["render", "--width", "16384", "--height", "16384", "--out", out_s],
+            vec!["render", "--candidates", "16777216", "--out", out_s],
+        ] {
+            let (ok, _, stderr) = smlt(&args);
+            assert!(!ok && stderr.contains("max_storage_buffer_binding_size"), "{args:?}: {stderr}");
+            assert_eq!(stderr.lines().count(), 1, "{stderr}");
+            assert!(!out.exists());
+        }
+    }
+    let missing = dir.join("no-such-icd.json");
+    let output = Command::new(env!("CARGO_BIN_EXE_smlt"))
+        .args(["render", "--out", out_s])
+        .env("VK_DRIVER_FILES", &missing)
+        .env("VK_ICD_FILENAMES", &missing)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(stderr.contains("no Vulkan adapter") && stderr.contains("lavapipe"), "{stderr}");
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A scene whose only light faces away from everything the camera can reach: every bootstrap
+/// sample is zero, and the render says so instead of dividing by zero.
+#[test]
+fn a_bootstrap_of_zeros_is_a_one_line_error() {
+    let dir = temp_dir("dark");
+    let mut b = smlt::scenes::GltfBuilder::new();
+    let lamp = b.material("lamp", [0.5; 3], [1.0; 3], 1.0, None);
+    // A quad in the plane y = 0, emitting towards −y (away from the camera above it).
+    b.quad(
+        lamp,
+        [
+            glam::Vec3::new(-1., 0., -1.),
+            glam::Vec3::new(1., 0., -1.),
+            glam::Vec3::new(1., 0., 1.),
+            glam::Vec3::new(-1., 0., 1.),
+        ],
+    );
+    b.camera(glam::Vec3::new(0.0, 3.0, 0.1), glam::Vec3::ZERO, glam::Vec3::Y, 0.8);
+    let scene = dir.join("dark.gltf");
+    std::fs::write(&scene, b.to_json()).unwrap();
+    let out = dir.join("x.exr");
+    let (ok, _, stderr) = smlt(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--device",
+        "cpu",
+        "--bootstrap",
+        "4096",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok && stderr.contains("bootstrap samples carry no light"), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -189,3 +189,21 @@ fn bvh_traversal_matches_obvhs() {
     println!("{hits} hits of 100000 rays ({axis} axis-parallel)");
     assert!(hits > 10_000);
 }
+
+/// Zero-area emitting triangles are never chosen as lights (they would have an infinite area
+/// density); a scene whose only emitters have zero area has nothing that emits.
+#[test]
+fn zero_area_emitters_are_not_lights() {
+    let lamp = Material { albedo: [0.5; 3], emission: [1.0; 3], ..Default::default() };
+    let mut soup = TriangleSoup { materials: vec![lamp], ..Default::default() };
+    soup.triangles.push([Vec3::ZERO, Vec3::X, Vec3::X * 2.0]); // zero area
+    soup.triangles.push([Vec3::ZERO, Vec3::X, Vec3::Y]);
+    soup.material_of = vec![0, 0];
+    let scene = SceneData::from_soup(soup.clone(), "lamps").unwrap();
+    assert_eq!(scene.lights.len(), 1);
+    let light = scene.triangles[scene.lights[0].triangle as usize];
+    assert!(light.area > 0.0 && (light.light_area_pdf - 2.0).abs() < 1e-6);
+    soup.triangles.pop();
+    soup.material_of.pop();
+    assert!(matches!(SceneData::from_soup(soup, "degenerate"), Err(SceneError::NoEmitter(_))));
+}

@@ -1,7 +1,11 @@
 //! The `smlt` command line.
 
-use std::path::PathBuf;
+use std::cell::Cell;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -85,6 +89,46 @@ struct RenderArgs {
     /// Probability of a large step.
     #[arg(long, default_value_t = 0.3, value_parser = unit_f32)]
     p_large: f32,
+    /// Write the image so far every this many seconds (Ctrl-C always writes it once more).
+    #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
+    checkpoint: Option<f64>,
+}
+
+/// The command line's view of a render: progress bar, Ctrl-C, checkpoints.
+struct CliObserver<'a> {
+    bar: ProgressBar,
+    stop: Arc<AtomicBool>,
+    every: Option<f64>,
+    last: f64,
+    out: &'a Path,
+    checkpoints: Rc<Cell<u32>>,
+}
+
+impl render::Observer for CliObserver<'_> {
+    fn progress(&mut self, fraction: f64) {
+        self.bar.set_position((fraction * 1000.0) as u64);
+    }
+
+    fn stop_requested(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+
+    fn checkpoint_due(&mut self, elapsed: f64) -> bool {
+        match self.every {
+            Some(every) if elapsed - self.last >= every => {
+                self.last = elapsed;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    fn checkpoint(&mut self, image: &render::Rendered) {
+        match smlt::output::write_images(self.out, image.width, image.height, &image.rgb) {
+            Ok(()) => self.checkpoints.set(self.checkpoints.get() + 1),
+            Err(e) => self.bar.println(format!("warning: checkpoint not written: {e}")),
+        }
+    }
 }
 
 #[derive(Subcommand)]
@@ -173,7 +217,7 @@ fn render_command(a: RenderArgs) -> anyhow::Result<()> {
         Some(gpu) => Box::new(render::gpu::GpuBackend::new(gpu, &scene, &params)?),
         None => Box::new(render::cpu::CpuBackend::new(&scene, &params)),
     };
-    eprintln!(
+    println!(
         "rendering {} at {}×{} with {} on {} ({} chains, {} candidates per iteration)",
         scene.name,
         a.width,
@@ -188,9 +232,28 @@ fn render_command(a: RenderArgs) -> anyhow::Result<()> {
         ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed_precise} eta {eta}")
             .expect("progress template"),
     );
-    let out = render::render(&scene, &settings, backend.as_mut(), |f| bar.set_position((f * 1000.0) as u64))?;
+    // Ctrl-C ends the render after the current iteration and writes the image so far; a second
+    // Ctrl-C exits at once.
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
+    let checkpoints = Rc::new(Cell::new(0));
+    let observer = CliObserver {
+        bar: bar.clone(),
+        stop: stop.clone(),
+        every: a.checkpoint,
+        last: 0.0,
+        out: &a.out,
+        checkpoints: checkpoints.clone(),
+    };
+    let out = render::render(&scene, &settings, backend.as_mut(), observer)?;
     bar.finish_and_clear();
     smlt::output::write_images(&a.out, out.width, out.height, &out.rgb)?;
+    let interrupted = stop.load(Ordering::SeqCst);
     let s = &out.stats;
     println!("chains               {}", s.chains);
     println!("iterations           {}", s.iterations);
@@ -206,7 +269,13 @@ fn render_command(a: RenderArgs) -> anyhow::Result<()> {
     println!("NaN/Inf rejected     {}", s.invalid);
     println!("bootstrap            {} samples in {:.2} s", s.bootstrap_samples, s.bootstrap_seconds);
     println!("render time          {:.2} s", s.render_seconds);
+    if checkpoints.get() > 0 {
+        println!("checkpoints          {}", checkpoints.get());
+    }
     println!("wrote                {} and {}", a.out.display(), smlt::output::png_path(&a.out).display());
+    if interrupted {
+        anyhow::bail!("interrupted: the image so far was written to {}", a.out.display());
+    }
     Ok(())
 }
 

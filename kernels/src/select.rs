@@ -199,3 +199,72 @@ pub fn select_cs(
 ) {
     select(id.x as usize, &params[0], chains, chain_u, cand_u, cand_depth, contributions, splats);
 }
+
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod tests {
+    use super::*;
+    use shared::mmlt::{METHOD_REJECT_CHAIN, METHOD_TREE};
+
+    fn params(method: u32, per_chain: u32) -> RenderParams {
+        RenderParams {
+            chains: 1,
+            candidates: per_chain,
+            dims: 2,
+            tree_depth: if method == METHOD_TREE { per_chain.trailing_ones() } else { 1 },
+            method,
+            reject_length: if method == METHOD_REJECT_CHAIN { per_chain } else { 0 },
+            iteration: 3,
+            seed: 9,
+            ..Default::default()
+        }
+    }
+
+    fn run(p: &RenderParams, root: Vec4, cands: &[Vec4]) -> (ChainState, Vec<Vec4>, Vec<f32>) {
+        let mut chains = [ChainState { contribution: root.to_array(), depth: 2, ..Default::default() }];
+        let mut chain_u = vec![0.25f32; 2];
+        let cand_u: Vec<f32> = (0..cands.len() * 2).map(|i| 0.5 + i as f32 * 0.01).collect();
+        let cand_depth = vec![4u32; cands.len()];
+        let mut splats = vec![Vec4::ZERO; cands.len() + 1];
+        select(0, p, &mut chains, &mut chain_u, &cand_u, &cand_depth, cands, &mut splats);
+        (chains[0], splats, chain_u)
+    }
+
+    fn px(rgb: f32, pixel: u32) -> Vec4 {
+        pack_contribution(Vec3::splat(rgb), 1.0, pixel)
+    }
+
+    /// NaN and ±Inf contributions are rejected, counted, and never splatted, by trees and
+    /// reject chains alike; the chain never moves to them.
+    #[test]
+    fn invalid_contributions_are_counted_and_never_splatted() {
+        let bad = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
+        for (method, per) in [(METHOD_TREE, 1), (METHOD_TREE, 3), (METHOD_REJECT_CHAIN, 4)] {
+            for b in bad {
+                let mut cands: Vec<Vec4> = (0..per).map(|i| px(0.5, 10 + i)).collect();
+                cands[0] = pack_contribution(Vec3::new(b, 1.0, 1.0), 1.0, 10);
+                let (state, splats, _) = run(&params(method, per), px(1.0, 5), &cands);
+                assert_eq!(state.invalid, 1, "method {method}/{per}: {b}");
+                let (rgb, pixel) = unpack_contribution(splats[1]);
+                assert_eq!(pixel, NO_PIXEL, "the invalid candidate is not splatted");
+                assert_eq!(rgb, Vec3::ZERO);
+                assert!(
+                    splats.iter().all(|s| s.truncate().is_finite()),
+                    "rgb of every record is finite (w holds pixel bits)"
+                );
+                assert!(Vec4::from_array(state.contribution).is_finite(), "the chain never moves to it");
+            }
+        }
+    }
+
+    /// A chain whose current state has c(x) = 0 accepts any valid proposal (a = 1).
+    #[test]
+    fn a_chain_started_at_zero_moves_to_a_valid_proposal() {
+        let (state, splats, chain_u) = run(&params(METHOD_TREE, 1), px(0.0, 5), &[px(0.5, 7)]);
+        assert_eq!(Vec4::from_array(state.contribution), px(0.5, 7));
+        assert_eq!(state.depth, 4, "the candidate's depth moves with it");
+        assert_eq!(chain_u, vec![0.5, 0.51]);
+        assert_eq!(unpack_contribution(splats[0]).1, NO_PIXEL, "the zero state splats nothing");
+        assert_eq!(unpack_contribution(splats[1]).1, 7);
+        assert!((state.accepted - 1.0).abs() < 1e-6 && state.steps == 1.0);
+    }
+}

@@ -65,3 +65,52 @@ pub fn splat_cs(
 ) {
     splat(id.x as usize, &params[0], splats, image);
 }
+
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod tests {
+    use super::*;
+    use shared::layout::pack_contribution;
+    use spirv_std::glam::Vec3;
+
+    /// 10^8 splats of 0.1..0.4 into 2 pixels through the kernel body's f32 image, drained into
+    /// f64 the way the renderer does (here every 2^16 splats per pixel), agree with an f64
+    /// accumulation of the same splats to 1e-6. One f32 accumulator for the whole run stalls once
+    /// its spacing exceeds twice the splat (past 2^23 · 0.8) and ends far off.
+    #[test]
+    fn f32_image_with_drains_matches_f64_over_1e8_splats() {
+        let params =
+            RenderParams { width: 2, height: 1, chains: 1 << 20, tree_depth: 1, ..Default::default() };
+        let pixels = 2usize;
+        let total = 100_000_000u64;
+        let per_drain = (1u64 << 16) * pixels as u64;
+        let mut image = vec![0u32; pixels * 3];
+        let mut undrained = vec![0.0f32; pixels];
+        let mut drained = vec![0.0f64; pixels];
+        let mut exact = vec![0.0f64; pixels];
+        let mut state = 0x9e37_79b9u32;
+        let mut record = [Vec4::ZERO; 1];
+        for i in 0..total {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            let pixel = (state % pixels as u32) as usize;
+            let value = 0.1 + 0.3 * ((state >> 8) as f32 / (1u32 << 24) as f32);
+            record[0] = pack_contribution(Vec3::new(value, 0.0, 0.0), 1.0, pixel as u32);
+            splat(0, &params, &record, &mut image);
+            exact[pixel] += value as f64;
+            undrained[pixel] += value;
+            if (i + 1) % per_drain == 0 || i + 1 == total {
+                for p in 0..pixels {
+                    drained[p] += f32::from_bits(image[p * 3]) as f64;
+                    image[p * 3] = 0;
+                }
+            }
+        }
+        for p in 0..pixels {
+            let rel = (drained[p] - exact[p]).abs() / exact[p];
+            assert!(rel < 1e-6, "pixel {p}: drained f32 off by {rel:e}");
+            let rel_undrained = (undrained[p] as f64 - exact[p]).abs() / exact[p];
+            assert!(rel_undrained > 0.1, "pixel {p}: a single f32 sum is off by only {rel_undrained:e}");
+        }
+    }
+}

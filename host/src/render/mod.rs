@@ -187,6 +187,41 @@ pub enum RenderError {
     TooLarge(String),
 }
 
+/// Watches a render: progress, an early stop (Ctrl-C), periodic checkpoints of the image so
+/// far. A closure `FnMut(f64)` is an observer of progress only.
+pub trait Observer {
+    /// The fraction of the budget used, after each drain.
+    fn progress(&mut self, _fraction: f64) {}
+    /// Whether the render should end now (the image so far is returned as the result).
+    fn stop_requested(&self) -> bool {
+        false
+    }
+    /// Whether a checkpoint is due `elapsed` seconds into the iterations.
+    fn checkpoint_due(&mut self, _elapsed: f64) -> bool {
+        false
+    }
+    /// The image so far, normalised like a finished render.
+    fn checkpoint(&mut self, _image: &Rendered) {}
+}
+
+impl<F: FnMut(f64)> Observer for F {
+    fn progress(&mut self, fraction: f64) {
+        self(fraction)
+    }
+}
+
+/// The normalised image from the accumulated splats: b · pixels · S_j / W.
+fn finish(image: &[f64], s: &Settings, stats: &Stats) -> Rendered {
+    let pixels = s.width as f64 * s.height as f64;
+    let scale = if stats.steps > 0.0 { stats.b * pixels / stats.steps } else { 0.0 };
+    Rendered {
+        width: s.width,
+        height: s.height,
+        rgb: image.iter().map(|v| (v * scale) as f32).collect(),
+        stats: stats.clone(),
+    }
+}
+
 /// Where the passes run: the same five kernels on the device or on CPU threads.
 pub trait Backend {
     /// Traces `params.candidates` fresh bootstrap samples; returns their contributions.
@@ -239,12 +274,12 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
 /// Iterations between drains of the device image into the f64 image.
 const DRAIN_EVERY: u64 = 8;
 
-/// Renders `scene` on `backend`; `progress` gets the fraction of the budget used.
+/// Renders `scene` on `backend`, reporting to `observer`.
 pub fn render(
     scene: &SceneData,
     s: &Settings,
     backend: &mut dyn Backend,
-    mut progress: impl FnMut(f64),
+    mut observer: impl Observer,
 ) -> Result<Rendered, RenderError> {
     let base = base_params(scene, s);
     let n = base.chains;
@@ -328,10 +363,14 @@ pub fn render(
             Budget::Seconds(t) => elapsed / t,
             Budget::MutationsPerPixel(m) => stats.candidates as f64 / (m * pixels as f64),
         };
-        let done = fraction >= 1.0;
+        let done = fraction >= 1.0 || observer.stop_requested();
         if done || stats.iterations.is_multiple_of(DRAIN_EVERY) {
             stats.steps += backend.drain(&mut image)?;
-            progress(fraction.min(1.0));
+            observer.progress(fraction.min(1.0));
+            if !done && observer.checkpoint_due(elapsed) {
+                stats.render_seconds = elapsed;
+                observer.checkpoint(&finish(&image, s, &stats));
+            }
         }
         if done {
             break;
@@ -341,7 +380,5 @@ pub fn render(
     let states = backend.chain_states()?;
     stats.acceptance = states.iter().map(|x| x.accepted as f64).sum::<f64>() / stats.steps;
     stats.invalid = states.iter().map(|x| x.invalid as u64).sum();
-    let scale = stats.b * pixels as f64 / stats.steps;
-    let rgb = image.iter().map(|v| (v * scale) as f32).collect();
-    Ok(Rendered { width: s.width, height: s.height, rgb, stats })
+    Ok(finish(&image, s, &stats))
 }
