@@ -217,3 +217,37 @@ fn a_bootstrap_of_zeros_is_a_one_line_error() {
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Ctrl-C (SIGINT) during a render writes the image so far and exits non-zero; checkpoints
+/// were written before it.
+#[test]
+fn ctrl_c_writes_the_image_so_far() {
+    let dir = temp_dir("sigint");
+    let out = dir.join("x.exr");
+    let child = Command::new(env!("CARGO_BIN_EXE_smlt"))
+        .args(["render", "--device", "cpu", "--width", "32", "--height", "32", "--time", "60"])
+        .args(["--checkpoint", "0.5", "--out", out.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let status = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(status.success());
+    let output = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(stderr.contains("interrupted"), "{stderr}");
+    assert!(stdout.contains("checkpoints"), "{stdout}");
+    let (w, h, rgb) = smlt::output::read_exr(&out).unwrap();
+    assert_eq!((w, h), (32, 32));
+    assert!(rgb.iter().any(|v| *v > 0.0));
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
