@@ -251,3 +251,35 @@ fn ctrl_c_writes_the_image_so_far() {
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `smlt reference` caches its image with its settings: the same settings reuse it, other
+/// settings render anew.
+#[test]
+fn the_reference_is_cached_with_its_settings() {
+    let dir = temp_dir("reference");
+    let out = dir.join("ref.exr");
+    let out_s = out.to_str().unwrap();
+    let args =
+        ["reference", "--device", "cpu", "--width", "8", "--height", "8", "--spp", "4", "--out", out_s];
+    let (ok, stdout, stderr) = smlt(&args);
+    assert!(ok && stdout.contains("wrote"), "{stderr}");
+    let (ok, stdout, _) = smlt(&args);
+    assert!(ok && stdout.contains("cached"), "{stdout}");
+    let (ok, stdout, _) = smlt(&[
+        "reference",
+        "--device",
+        "cpu",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--spp",
+        "8",
+        "--out",
+        out_s,
+    ]);
+    assert!(ok && !stdout.contains("cached") && stdout.contains("wrote"), "{stdout}");
+    let (w, h, _) = smlt::output::read_exr(&out).unwrap();
+    assert_eq!((w, h), (8, 8));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -5,6 +5,7 @@
 pub mod gpu;
 pub mod output;
 pub mod passes;
+pub mod reference;
 pub mod render;
 pub mod scene;
 pub mod scenes;

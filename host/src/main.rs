@@ -131,8 +131,38 @@ impl render::Observer for CliObserver<'_> {
     }
 }
 
+#[derive(clap::Args)]
+struct ReferenceArgs {
+    /// glTF scene (.gltf or .glb); the embedded Cornell box when absent.
+    scene: Option<PathBuf>,
+    /// Samples per pixel.
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..=16_777_216))]
+    spp: u32,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    height: u32,
+    /// Maximum bounces, as pbrt's maxdepth.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(0..=64))]
+    max_depth: u32,
+    /// Seed of every random number.
+    #[arg(long, default_value_t = 1)]
+    seed: u32,
+    /// Where the path tracer runs.
+    #[arg(long, value_enum, default_value_t = DeviceKind::Gpu)]
+    device: DeviceKind,
+    /// Output EXR; its settings go to `<out>.json`, and a later run with the same settings reuses it.
+    #[arg(long, default_value = "reference.exr")]
+    out: PathBuf,
+}
+
 #[derive(Subcommand)]
 enum Command {
+    /// Renders a scene's ground truth with an independent path tracer (next-event estimation and
+    /// MIS), cached on disk with its settings.
+    Reference(ReferenceArgs),
     /// Renders a glTF scene with Multiplexed MLT on the GPU (or the CPU).
     Render(RenderArgs),
     /// Opens the Vulkan adapter, prints its name, and checks that the device computes the
@@ -279,6 +309,69 @@ fn render_command(a: RenderArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+fn reference_command(a: ReferenceArgs) -> anyhow::Result<()> {
+    use smlt::reference::{cached, content_hash, render_reference, sidecar, ReferenceSettings};
+    smlt::output::check_writable(&a.out)?;
+    let (scene, bytes) = match &a.scene {
+        Some(path) => {
+            let scene = SceneData::load(path)?;
+            (scene, std::fs::read(path)?)
+        }
+        None => (
+            SceneData::from_slice(DEFAULT_SCENE.as_bytes(), "the embedded Cornell box")?,
+            DEFAULT_SCENE.as_bytes().to_vec(),
+        ),
+    };
+    let settings = ReferenceSettings {
+        scene: scene.name.clone(),
+        scene_hash: content_hash(&bytes),
+        width: a.width,
+        height: a.height,
+        max_depth: a.max_depth,
+        spp: a.spp,
+        seed: a.seed,
+    };
+    if cached(&a.out, &settings) {
+        println!("cached               {} (same settings in {})", a.out.display(), sidecar(&a.out).display());
+        return Ok(());
+    }
+    let gpu = match a.device {
+        DeviceKind::Gpu => Some(Gpu::new()?),
+        DeviceKind::Cpu => None,
+    };
+    println!(
+        "reference of {} at {}×{}, {} spp, max depth {} on {}",
+        scene.name,
+        a.width,
+        a.height,
+        a.spp,
+        a.max_depth,
+        gpu.as_ref().map(|g| g.describe()).unwrap_or_else(|| "CPU".into())
+    );
+    let bar = ProgressBar::new(1000);
+    let start = std::time::Instant::now();
+    let per_pass = if gpu.is_some() { 16 } else { 4 };
+    let rgb = render_reference(&scene, &settings, gpu.as_ref(), per_pass, |f| {
+        bar.set_position((f * 1000.0) as u64)
+    })?;
+    bar.finish_and_clear();
+    let seconds = start.elapsed().as_secs_f64();
+    smlt::output::write_images(&a.out, a.width, a.height, &rgb)?;
+    let json = sidecar(&a.out);
+    let tmp = json.with_extension("json.tmp");
+    std::fs::write(&tmp, serde_json::to_string_pretty(&settings)?)?;
+    std::fs::rename(&tmp, &json)?;
+    let paths = a.width as f64 * a.height as f64 * a.spp as f64;
+    println!("time                 {seconds:.2} s ({:.3} M paths/s)", paths / seconds / 1e6);
+    println!(
+        "wrote                {}, {} and {}",
+        a.out.display(),
+        smlt::output::png_path(&a.out).display(),
+        json.display()
+    );
+    Ok(())
+}
+
 fn scene_command(name: &str, out: &PathBuf) -> anyhow::Result<()> {
     let text = match name {
         "cornell" => smlt::scenes::cornell::cornell(),
@@ -306,6 +399,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Selftest { seed } => selftest(seed),
         Command::Render(a) => render_command(a),
+        Command::Reference(a) => reference_command(a),
         Command::Scene { name, out } => scene_command(&name, &out),
     };
     match result {

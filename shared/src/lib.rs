@@ -10,7 +10,10 @@
 //! - [`discrete`]: drawing an index in proportion to weights;
 //! - [`tree`]: the speculative mutation tree (seed §4, Eq. 2 and Eq. 3 generalised);
 //! - [`reject_chain`]: the reject chain of Byrd et al. (seed §3.3);
-//! - [`layout`]: SoA indexing and the packed `float4` contribution.
+//! - [`layout`]: SoA indexing and the packed `float4` contribution;
+//! - [`camera`], [`bsdf`], [`light`], [`bvh`]: the scene primitives;
+//! - [`mmlt`]: Multiplexed MLT path sampling (the trace and connect stages);
+//! - [`path_tracer`]: the independent reference estimator.
 #![cfg_attr(target_arch = "spirv", no_std)]
 #![deny(missing_docs)]
 
@@ -23,6 +26,7 @@ pub mod layout;
 pub mod light;
 pub mod mmlt;
 pub mod mutation;
+pub mod path_tracer;
 pub mod reject_chain;
 pub mod rng;
 pub mod tree;

@@ -4,6 +4,7 @@
 
 pub mod connect;
 pub mod mutate;
+pub mod reference;
 pub mod select;
 pub mod selftest;
 pub mod splat;

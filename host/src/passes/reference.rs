@@ -1,0 +1,35 @@
+//! The `reference` pass: binds params, the scene and the f32 image; on the CPU the same body
+//! runs over the pixels in parallel (each pixel is its own output).
+
+use rayon::prelude::*;
+use shared::mmlt::{RenderParams, Scene};
+
+use super::Pass;
+use crate::gpu::{Gpu, GpuError};
+
+/// The GPU pass over `buffers` = [params, nodes, triangles, materials, lights, image].
+pub fn gpu(gpu: &Gpu, buffers: [&wgpu::Buffer; 6]) -> Result<Pass, GpuError> {
+    let [params, nodes, triangles, materials, lights, image] = buffers;
+    Pass::new(
+        gpu,
+        "reference_cs",
+        &[
+            (params, true),
+            (nodes, true),
+            (triangles, true),
+            (materials, true),
+            (lights, true),
+            (image, false),
+        ],
+    )
+}
+
+/// The same body on the CPU: adds one pass of samples to every pixel of `image` (rgb).
+pub fn cpu(params: &RenderParams, scene: Scene, image: &mut [f32]) {
+    image.par_chunks_mut(3).enumerate().for_each(|(i, px)| {
+        let sum = shared::path_tracer::pixel_pass(params, scene, i as u32);
+        px[0] += sum.x;
+        px[1] += sum.y;
+        px[2] += sum.z;
+    });
+}

@@ -1,0 +1,118 @@
+//! The reference estimator (independent path tracer): analytic furnace, device = CPU, and
+//! agreement with the MMLT renderer within noise.
+
+mod common;
+
+use common::scenes::{furnace, furnace_radiance};
+use smlt::reference::{render_reference, ReferenceSettings};
+use smlt::render::{self, cpu::CpuBackend, Budget, Settings};
+use smlt::scene::SceneData;
+
+fn settings(name: &str, size: u32, max_depth: u32, spp: u32, seed: u32) -> ReferenceSettings {
+    ReferenceSettings {
+        scene: name.into(),
+        scene_hash: String::new(),
+        width: size,
+        height: size,
+        max_depth,
+        spp,
+        seed,
+    }
+}
+
+fn block_means(rgb: &[f32], size: u32) -> Vec<f64> {
+    let mut sums = vec![0.0; 16];
+    for y in 0..size {
+        for x in 0..size {
+            let i = ((x + y * size) * 3) as usize;
+            let lum = shared::mmlt::luminance(glam::Vec3::new(rgb[i], rgb[i + 1], rgb[i + 2])) as f64;
+            sums[(x * 4 / size + (y * 4 / size) * 4) as usize] += lum / (size * size / 16) as f64;
+        }
+    }
+    sums
+}
+
+fn mean_and_variance(runs: &[Vec<f64>], b: usize) -> (f64, f64) {
+    let r = runs.len() as f64;
+    let m = runs.iter().map(|x| x[b]).sum::<f64>() / r;
+    (m, runs.iter().map(|x| (x[b] - m).powi(2)).sum::<f64>() / (r - 1.0))
+}
+
+#[test]
+fn the_reference_furnace_is_analytic() {
+    let (rho, k) = (0.8, 5);
+    let scene = furnace(1.0, rho);
+    let rgb = render_reference(&scene, &settings("furnace", 16, k, 512, 1), None, 16, |_| {}).unwrap();
+    let expected = furnace_radiance(1.0, rho, k);
+    let mean = rgb.iter().map(|v| *v as f64).sum::<f64>() / rgb.len() as f64;
+    println!("reference furnace: mean {mean:.5}, expected {expected:.5}");
+    assert!((mean / expected - 1.0).abs() < 0.002, "{mean} vs {expected}");
+    for b in block_means(&rgb, 16) {
+        assert!((b / expected - 1.0).abs() < 0.01, "block {b} vs {expected}");
+    }
+}
+
+#[test]
+fn the_device_reference_equals_the_cpu_reference() {
+    let Some(gpu) = common::gpu_or_skip("the_device_reference_equals_the_cpu_reference") else {
+        return;
+    };
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").unwrap();
+    let s = settings("cornell", 16, 5, 32, 4);
+    let cpu = render_reference(&scene, &s, None, 16, |_| {}).unwrap();
+    let dev = render_reference(&scene, &s, Some(&gpu), 16, |_| {}).unwrap();
+    let differ = cpu
+        .iter()
+        .zip(&dev)
+        .filter(|(a, b)| (**a - **b).abs() > 1e-3 * a.abs().max(b.abs()).max(1e-3))
+        .count();
+    println!("reference pixels differing between device and CPU: {differ} of {}", cpu.len());
+    assert!(differ <= cpu.len() / 200, "{differ} values differ");
+}
+
+/// MMLT (naive and s3) and the independent path tracer agree on the default scene: every 4×4
+/// block within 5 standard errors of the difference, the noise of each side measured from
+/// independent runs.
+#[test]
+fn the_reference_and_mmlt_agree_on_the_default_scene() {
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").unwrap();
+    let (size, k) = (32, 5);
+    let reference: Vec<Vec<f64>> = (0..4)
+        .map(|seed| {
+            block_means(
+                &render_reference(&scene, &settings("cornell", size, k, 256, 10 + seed), None, 16, |_| {})
+                    .unwrap(),
+                size,
+            )
+        })
+        .collect();
+    for method in ["naive", "s3"] {
+        let mmlt: Vec<Vec<f64>> = (0..5)
+            .map(|seed| {
+                let s = Settings {
+                    width: size,
+                    height: size,
+                    max_depth: k,
+                    seed: 60 + seed,
+                    method: method.parse().unwrap(),
+                    budget: Budget::MutationsPerPixel(256.0),
+                    candidates: 4096,
+                    bootstrap_samples: 1 << 17,
+                    mutation: Default::default(),
+                };
+                let p = render::base_params(&scene, &s);
+                let r = render::render(&scene, &s, &mut CpuBackend::new(&scene, &p), |_| {}).unwrap();
+                block_means(&r.rgb, size)
+            })
+            .collect();
+        let mut worst = 0.0f64;
+        for b in 0..16 {
+            let (mr, vr) = mean_and_variance(&reference, b);
+            let (mm, vm) = mean_and_variance(&mmlt, b);
+            let z = (mr - mm) / (vr / 4.0 + vm / 5.0).sqrt().max(1e-9);
+            worst = worst.max(z.abs());
+            assert!(z.abs() < 5.0, "{method} block {b}: reference {mr:.5}, MMLT {mm:.5} (z = {z:.2})");
+        }
+        println!("reference vs {method}: worst block |z| = {worst:.2}");
+    }
+}
