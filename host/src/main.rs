@@ -89,6 +89,9 @@ struct RenderArgs {
     /// Probability of a large step.
     #[arg(long, default_value_t = 0.3, value_parser = unit_f32)]
     p_large: f32,
+    /// Which of the scene's cameras to use (1 = the first).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    view: u32,
     /// Write the image so far every this many seconds (Ctrl-C always writes it once more).
     #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
     checkpoint: Option<f64>,
@@ -153,6 +156,9 @@ struct ReferenceArgs {
     /// Where the path tracer runs.
     #[arg(long, value_enum, default_value_t = DeviceKind::Gpu)]
     device: DeviceKind,
+    /// Which of the scene's cameras to use (1 = the first).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    view: u32,
     /// Output EXR; its settings go to `<out>.json`, and a later run with the same settings reuses it.
     #[arg(long, default_value = "reference.exr")]
     out: PathBuf,
@@ -174,11 +180,14 @@ enum Command {
     },
     /// Writes one of the generated scenes as glTF.
     Scene {
-        /// Scene name: cornell.
+        /// Scene name: cornell, atrium, nave or sunblind.
         name: String,
         /// Output .gltf path.
         #[arg(long)]
         out: PathBuf,
+        /// Split every quad n × n times (raises the triangle count; the image stays the same).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
+        tessellation: u32,
     },
 }
 
@@ -210,10 +219,11 @@ fn selftest(seed: u32) -> anyhow::Result<()> {
 
 fn render_command(a: RenderArgs) -> anyhow::Result<()> {
     smlt::output::check_writable(&a.out)?;
-    let scene = match &a.scene {
+    let mut scene = match &a.scene {
         Some(path) => SceneData::load(path)?,
         None => SceneData::from_slice(DEFAULT_SCENE.as_bytes(), "the embedded Cornell box")?,
     };
+    scene.select_view(a.view)?;
     for w in &scene.warnings {
         eprintln!("warning: {}: {w}", scene.name);
     }
@@ -312,7 +322,7 @@ fn render_command(a: RenderArgs) -> anyhow::Result<()> {
 fn reference_command(a: ReferenceArgs) -> anyhow::Result<()> {
     use smlt::reference::{cached, content_hash, render_reference, sidecar, ReferenceSettings};
     smlt::output::check_writable(&a.out)?;
-    let (scene, bytes) = match &a.scene {
+    let (mut scene, bytes) = match &a.scene {
         Some(path) => {
             let scene = SceneData::load(path)?;
             (scene, std::fs::read(path)?)
@@ -322,8 +332,9 @@ fn reference_command(a: ReferenceArgs) -> anyhow::Result<()> {
             DEFAULT_SCENE.as_bytes().to_vec(),
         ),
     };
+    scene.select_view(a.view)?;
     let settings = ReferenceSettings {
-        scene: scene.name.clone(),
+        scene: format!("{} view {}", scene.name, a.view),
         scene_hash: content_hash(&bytes),
         width: a.width,
         height: a.height,
@@ -372,10 +383,9 @@ fn reference_command(a: ReferenceArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn scene_command(name: &str, out: &PathBuf) -> anyhow::Result<()> {
-    let text = match name {
-        "cornell" => smlt::scenes::cornell::cornell(),
-        other => anyhow::bail!("unknown scene '{other}': known scenes are cornell"),
+fn scene_command(name: &str, out: &PathBuf, tessellation: u32) -> anyhow::Result<()> {
+    let Some(text) = smlt::scenes::generate(name, tessellation) else {
+        anyhow::bail!("unknown scene '{name}': known scenes are cornell, atrium, nave and sunblind");
     };
     std::fs::write(out, text).map_err(|e| anyhow::anyhow!("cannot write {}: {e}", out.display()))?;
     println!("wrote {}", out.display());
@@ -400,7 +410,7 @@ fn main() -> ExitCode {
         Command::Selftest { seed } => selftest(seed),
         Command::Render(a) => render_command(a),
         Command::Reference(a) => reference_command(a),
-        Command::Scene { name, out } => scene_command(&name, &out),
+        Command::Scene { name, out, tessellation } => scene_command(&name, &out, tessellation),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

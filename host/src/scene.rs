@@ -9,10 +9,11 @@
 //!   from the material's extras, key [`PHONG_EXPONENT_KEY`] (absent or 0: Lambertian).
 //!   Textures and other material extensions change the image but are not modelled: each is
 //!   named in a printed warning;
-//! - the first perspective camera met in a depth-first walk of the scene (its node looks down
-//!   −Z with +Y up; the image aspect comes from the render's width/height). Without one, the
-//!   documented default: a 40° vertical field of view looking down −Z at the centre of the
-//!   scene's bounding box, from where the box's larger side fills the view.
+//! - perspective cameras, in the order of a depth-first walk of the scene: view 1 is the first
+//!   (`--view N` picks another; each node looks down −Z with +Y up; the image aspect comes from
+//!   the render's width/height). Without one, the documented default: a 40° vertical field of
+//!   view looking down −Z at the centre of the scene's bounding box, from where the box's
+//!   larger side fills the view.
 
 use std::path::Path;
 
@@ -89,8 +90,10 @@ pub struct SceneData {
     pub materials: Vec<Material>,
     /// The light-selection CDF over emissive triangles.
     pub lights: Vec<LightEntry>,
-    /// The camera.
+    /// The camera of the selected view.
     pub camera: CameraSpec,
+    /// Every perspective camera of the file, in scene order (views 1, 2, …).
+    pub views: Vec<CameraSpec>,
     /// Bounding box of all triangles.
     pub bounds: (Vec3, Vec3),
     /// Things the renderer ignored that change the image.
@@ -106,8 +109,8 @@ pub struct TriangleSoup {
     pub material_of: Vec<u32>,
     /// Materials.
     pub materials: Vec<Material>,
-    /// Camera, if the file has one.
-    pub camera: Option<CameraSpec>,
+    /// The file's perspective cameras, in scene order.
+    pub cameras: Vec<CameraSpec>,
     /// Ignored content.
     pub warnings: Vec<String>,
 }
@@ -126,6 +129,23 @@ impl SceneData {
             width: width as f32,
             forward: c.forward.to_array(),
             height: height as f32,
+        }
+    }
+
+    /// Selects view `view` (1-based) among the file's cameras.
+    pub fn select_view(&mut self, view: u32) -> Result<(), SceneError> {
+        if view == 1 && self.views.is_empty() {
+            return Ok(()); // the default camera
+        }
+        match self.views.get(view.wrapping_sub(1) as usize) {
+            Some(c) => {
+                self.camera = *c;
+                Ok(())
+            }
+            None => Err(SceneError::Unsupported {
+                path: self.name.clone(),
+                what: format!("view {view} requested, but the scene has {} camera(s)", self.views.len()),
+            }),
         }
     }
 
@@ -227,7 +247,7 @@ impl SceneData {
                 hi = hi.max(*v);
             }
         }
-        let camera = soup.camera.unwrap_or_else(|| default_camera(lo, hi));
+        let camera = soup.cameras.first().copied().unwrap_or_else(|| default_camera(lo, hi));
         Ok(SceneData {
             name: name.into(),
             triangles,
@@ -235,6 +255,7 @@ impl SceneData {
             materials: soup.materials,
             lights,
             camera,
+            views: soup.cameras,
             bounds: (lo, hi),
             warnings: soup.warnings,
         })
@@ -325,12 +346,12 @@ pub fn read_document(
     while let Some((node, parent)) = stack.pop() {
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(cam) = node.camera() {
-            if soup.camera.is_none() {
+            {
                 match cam.projection() {
                     gltf::camera::Projection::Perspective(p) => {
                         let forward = (world * glam::Vec4::new(0.0, 0.0, -1.0, 0.0)).xyz().normalize();
                         let up = (world * glam::Vec4::new(0.0, 1.0, 0.0, 0.0)).xyz().normalize();
-                        soup.camera = Some(CameraSpec {
+                        soup.cameras.push(CameraSpec {
                             position: (world * glam::Vec4::W).xyz(),
                             forward,
                             up: (up - forward * up.dot(forward)).normalize(),
