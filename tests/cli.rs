@@ -283,3 +283,53 @@ fn the_reference_is_cached_with_its_settings() {
     assert_eq!((w, h), (8, 8));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `smlt bench` runs end to end on a tiny configuration and writes a well-formed CSV (every
+/// row parses, one per method and measurement time), the tables and the heat maps.
+#[test]
+fn the_bench_writes_a_well_formed_csv() {
+    let device =
+        if common::gpu_or_skip("the_bench_writes_a_well_formed_csv").is_some() { "gpu" } else { "cpu" };
+    let dir = temp_dir("bench");
+    let (ok, _, stderr) = smlt(&[
+        "bench",
+        "--scenes",
+        "cornell,atrium:2",
+        "--methods",
+        "naive,s2,rc2",
+        "--seconds",
+        "1.5",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--reference-spp",
+        "16",
+        "--candidates",
+        "1000",
+        "--device",
+        device,
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some(smlt::bench::CSV_HEADER));
+    let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(String::from).collect()).collect();
+    // 2 scene views × 3 methods × 2 times (1 s and 1.5 s).
+    assert_eq!(rows.len(), 12, "{csv}");
+    for r in &rows {
+        assert_eq!(r.len(), 11, "{r:?}");
+        assert!(["naive", "s2", "rc2"].contains(&r[2].as_str()));
+        for field in &r[3..] {
+            let v: f64 = field.parse().unwrap_or_else(|_| panic!("{field} in {r:?}"));
+            assert!(v.is_finite() && v >= 0.0, "{r:?}");
+        }
+    }
+    let tables = std::fs::read_to_string(dir.join("tables.md")).unwrap();
+    assert!(tables.contains("Million mutations") && tables.contains("PSNR") && tables.contains("| rc2 |"));
+    assert!(dir.join("heat_cornell_v1_naive.png").exists());
+    assert!(dir.join("reference_atrium_v2.exr.json").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

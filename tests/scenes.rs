@@ -20,7 +20,11 @@ fn the_committed_scenes_are_what_the_generators_write() {
         ("nave", include_str!("../scenes/nave.gltf")),
         ("sunblind", include_str!("../scenes/sunblind.gltf")),
     ] {
-        assert_eq!(text, smlt::scenes::generate(name, 1).unwrap(), "regenerate scenes/{name}.gltf with `smlt scene {name}`");
+        assert_eq!(
+            text,
+            smlt::scenes::generate(name, 1).unwrap(),
+            "regenerate scenes/{name}.gltf with `smlt scene {name}`"
+        );
     }
 }
 

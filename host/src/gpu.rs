@@ -65,7 +65,8 @@ pub enum ShaderPath {
     Naga,
 }
 
-/// An open device with the kernels module loaded.
+/// An open device with the kernels module loaded (cloning shares the device).
+#[derive(Clone)]
 pub struct Gpu {
     /// The adapter's name, type and driver.
     pub info: wgpu::AdapterInfo,

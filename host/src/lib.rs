@@ -2,7 +2,9 @@
 //! on CPU threads), and the commands of the `smlt` binary.
 #![deny(missing_docs)]
 
+pub mod bench;
 pub mod gpu;
+pub mod metrics;
 pub mod output;
 pub mod passes;
 pub mod reference;

@@ -164,8 +164,61 @@ struct ReferenceArgs {
     out: PathBuf,
 }
 
+fn scene_view(s: &str) -> Result<(String, u32), String> {
+    match s.split_once(':') {
+        Some((name, view)) => match view.parse::<u32>() {
+            Ok(v) if v >= 1 => Ok((name.to_string(), v)),
+            _ => Err(format!("'{s}': the view after ':' must be a number ≥ 1")),
+        },
+        None => Ok((s.to_string(), 1)),
+    }
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    /// Scenes, comma-separated, each a generated scene (cornell, atrium, nave, sunblind) or a
+    /// glTF path, with an optional view: atrium:2.
+    #[arg(long, value_delimiter = ',', default_value = "cornell,atrium:1,atrium:2,nave,sunblind", value_parser = scene_view)]
+    scenes: Vec<(String, u32)>,
+    /// Methods, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "naive,s2,s3,s4,s5,s6,rc2,rc4,rc8,rc16,rc32,rc64", value_parser = |s: &str| s.parse::<Method>())]
+    methods: Vec<Method>,
+    /// Render seconds per method (errors are also measured at 1, 2, 4, … s).
+    #[arg(long, default_value_t = 8.0, value_parser = positive_f64)]
+    seconds: f64,
+    /// Image width.
+    #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    width: u32,
+    /// Image height.
+    #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    height: u32,
+    /// Maximum bounces.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(0..=64))]
+    max_depth: u32,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u32,
+    /// Samples per pixel of the (cached) references.
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..))]
+    reference_spp: u32,
+    /// Candidates per iteration (default by device, as for render).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_777_216))]
+    candidates: Option<u32>,
+    /// Tessellation of the generated scenes.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
+    tessellation: u32,
+    /// Where the kernels run.
+    #[arg(long, value_enum, default_value_t = DeviceKind::Gpu)]
+    device: DeviceKind,
+    /// Output folder.
+    #[arg(long, default_value = "bench")]
+    out: PathBuf,
+}
+
 #[derive(Subcommand)]
 enum Command {
+    /// Equal-time comparison of the methods against reference images: CSV, tables, heat maps.
+    Bench(BenchArgs),
     /// Renders a scene's ground truth with an independent path tracer (next-event estimation and
     /// MIS), cached on disk with its settings.
     Reference(ReferenceArgs),
@@ -383,6 +436,31 @@ fn reference_command(a: ReferenceArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+fn bench_command(a: BenchArgs) -> anyhow::Result<()> {
+    let gpu = match a.device {
+        DeviceKind::Gpu => Some(Gpu::new()?),
+        DeviceKind::Cpu => None,
+    };
+    println!("bench on {}", gpu.as_ref().map(|g| g.describe()).unwrap_or_else(|| "CPU".into()));
+    println!("{}", smlt::bench::CSV_HEADER);
+    let settings = smlt::bench::BenchSettings {
+        scenes: a.scenes,
+        methods: a.methods,
+        seconds: a.seconds,
+        width: a.width,
+        height: a.height,
+        max_depth: a.max_depth,
+        seed: a.seed,
+        reference_spp: a.reference_spp,
+        candidates: a.candidates,
+        tessellation: a.tessellation,
+        out: a.out.clone(),
+    };
+    smlt::bench::run(&settings, gpu.as_ref(), |line| println!("{line}"))?;
+    println!("wrote {}/results.csv and {}/tables.md", a.out.display(), a.out.display());
+    Ok(())
+}
+
 fn scene_command(name: &str, out: &PathBuf, tessellation: u32) -> anyhow::Result<()> {
     let Some(text) = smlt::scenes::generate(name, tessellation) else {
         anyhow::bail!("unknown scene '{name}': known scenes are cornell, atrium, nave and sunblind");
@@ -410,6 +488,7 @@ fn main() -> ExitCode {
         Command::Selftest { seed } => selftest(seed),
         Command::Render(a) => render_command(a),
         Command::Reference(a) => reference_command(a),
+        Command::Bench(a) => bench_command(a),
         Command::Scene { name, out, tessellation } => scene_command(&name, &out, tessellation),
     };
     match result {

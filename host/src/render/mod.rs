@@ -274,6 +274,139 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
 /// Iterations between drains of the device image into the f64 image.
 const DRAIN_EVERY: u64 = 8;
 
+/// A render in progress: bootstrapped chains on a backend, advanced an iteration at a time, so
+/// that several methods can be advanced in turns (the bench interleaves them).
+pub struct Renderer<'a> {
+    backend: &'a mut dyn Backend,
+    settings: Settings,
+    base: RenderParams,
+    image: Vec<f64>,
+    stats: Stats,
+    pending: u64,
+}
+
+impl<'a> Renderer<'a> {
+    /// Bootstraps (normalisation b, chains started in proportion to c) and starts the chains.
+    pub fn start(scene: &SceneData, s: &Settings, backend: &'a mut dyn Backend) -> Result<Self, RenderError> {
+        let base = base_params(scene, s);
+        let n = base.chains;
+        let c = base.candidates;
+        let dims = base.dims;
+        let mut stats = Stats { chains: n, ..Default::default() };
+        let start = Instant::now();
+        let total = s.bootstrap_samples.max(n) as u64;
+        let mut contributions: Vec<Vec4> = Vec::with_capacity(total as usize);
+        let mut offset = 0u64;
+        while offset < total {
+            let count = (total - offset).min(c as u64) as u32;
+            let params = RenderParams {
+                mode: MODE_BOOTSTRAP,
+                candidates: count,
+                sample_offset: offset as u32,
+                ..base
+            };
+            contributions.extend(backend.bootstrap(&params)?);
+            offset += count as u64;
+        }
+        let targets: Vec<f64> = contributions
+            .iter()
+            .map(|v| {
+                let y = luminance(v.truncate());
+                if y.is_finite() && y > 0.0 {
+                    y as f64
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let sum: f64 = targets.iter().sum();
+        if !(sum > 0.0) {
+            return Err(RenderError::NothingVisible(total));
+        }
+        stats.bootstrap_samples = total;
+        let mean = sum / total as f64;
+        let variance =
+            targets.iter().map(|t| (t - mean) * (t - mean)).sum::<f64>() / (total as f64 - 1.0).max(1.0);
+        stats.b = (s.max_depth as f64 + 1.0) * mean;
+        stats.b_standard_error = (s.max_depth as f64 + 1.0) * (variance / total as f64).sqrt();
+        let mut cdf = Vec::with_capacity(targets.len());
+        let mut running = 0.0;
+        for t in &targets {
+            running += t;
+            cdf.push(running);
+        }
+        let mut chain_u = vec![0.0f32; (n * dims) as usize];
+        let mut chains = vec![ChainState::default(); n as usize];
+        for p in 0..n {
+            let key = RngKey {
+                seed: s.seed,
+                chain: p,
+                iteration: BOOTSTRAP_ITERATION,
+                dimension: rng::dimension(rng::STREAM_CONTROL, rng::CONTROL_BOOTSTRAP_PICK),
+            };
+            let target = rng::uniform(key) as f64 * sum;
+            let g = cdf.partition_point(|&x| x <= target).min(cdf.len() - 1);
+            for dim in 0..dims {
+                chain_u[(p + dim * n) as usize] = bootstrap_sample(s.seed, g as u32, dim);
+            }
+            chains[p as usize] = ChainState {
+                contribution: contributions[g].to_array(),
+                depth: g as u32 % (s.max_depth + 1),
+                ..Default::default()
+            };
+        }
+        backend.start(&chain_u, &chains)?;
+        stats.bootstrap_seconds = start.elapsed().as_secs_f64();
+        let pixels = s.width as usize * s.height as usize;
+        Ok(Self { backend, settings: s.clone(), base, image: vec![0.0; pixels * 3], stats, pending: 0 })
+    }
+
+    /// One iteration of every chain; its wall time is added to the render time.
+    pub fn iterate(&mut self) -> Result<(), RenderError> {
+        let start = Instant::now();
+        let params = RenderParams { iteration: self.stats.iterations as u32, ..self.base };
+        self.backend.iterate(&params)?;
+        self.stats.iterations += 1;
+        self.stats.candidates += self.base.candidates as u64;
+        self.pending += 1;
+        if self.pending >= DRAIN_EVERY {
+            self.drain()?;
+        }
+        self.stats.render_seconds += start.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Moves the device's splats and step counts into the f64 image.
+    pub fn drain(&mut self) -> Result<(), RenderError> {
+        self.stats.steps += self.backend.drain(&mut self.image)?;
+        self.pending = 0;
+        Ok(())
+    }
+
+    /// The statistics so far (steps as of the last drain).
+    pub fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    /// The image so far without reading the chains (for checkpoints).
+    pub fn image(&mut self) -> Result<Rendered, RenderError> {
+        self.drain()?;
+        Ok(finish(&self.image, &self.settings, &self.stats))
+    }
+
+    /// The image so far with acceptance and NaN/Inf counts from the chains.
+    pub fn snapshot(&mut self) -> Result<Rendered, RenderError> {
+        let start = Instant::now();
+        self.drain()?;
+        let states = self.backend.chain_states()?;
+        self.stats.acceptance =
+            states.iter().map(|x| x.accepted as f64).sum::<f64>() / self.stats.steps.max(1e-30);
+        self.stats.invalid = states.iter().map(|x| x.invalid as u64).sum();
+        self.stats.render_seconds += start.elapsed().as_secs_f64();
+        Ok(finish(&self.image, &self.settings, &self.stats))
+    }
+}
+
 /// Renders `scene` on `backend`, reporting to `observer`.
 pub fn render(
     scene: &SceneData,
@@ -281,104 +414,28 @@ pub fn render(
     backend: &mut dyn Backend,
     mut observer: impl Observer,
 ) -> Result<Rendered, RenderError> {
-    let base = base_params(scene, s);
-    let n = base.chains;
-    let c = base.candidates;
-    let dims = base.dims;
-    let pixels = (s.width as u64) * (s.height as u64);
-    let mut stats = Stats { chains: n, ..Default::default() };
-
-    // Bootstrap: fresh samples in rounds of up to C, depth = sample index mod (k_max + 1).
-    let start = Instant::now();
-    let total = s.bootstrap_samples.max(n) as u64;
-    let mut contributions: Vec<Vec4> = Vec::with_capacity(total as usize);
-    let mut offset = 0u64;
-    while offset < total {
-        let count = (total - offset).min(c as u64) as u32;
-        let params =
-            RenderParams { mode: MODE_BOOTSTRAP, candidates: count, sample_offset: offset as u32, ..base };
-        contributions.extend(backend.bootstrap(&params)?);
-        offset += count as u64;
-    }
-    let targets: Vec<f64> = contributions
-        .iter()
-        .map(|v| {
-            let y = luminance(v.truncate());
-            if y.is_finite() && y > 0.0 {
-                y as f64
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    let sum: f64 = targets.iter().sum();
-    if !(sum > 0.0) {
-        return Err(RenderError::NothingVisible(total));
-    }
-    stats.bootstrap_samples = total;
-    let mean = sum / total as f64;
-    let variance =
-        targets.iter().map(|t| (t - mean) * (t - mean)).sum::<f64>() / (total as f64 - 1.0).max(1.0);
-    stats.b = (s.max_depth as f64 + 1.0) * mean;
-    stats.b_standard_error = (s.max_depth as f64 + 1.0) * (variance / total as f64).sqrt();
-    let mut cdf = Vec::with_capacity(targets.len());
-    let mut running = 0.0;
-    for t in &targets {
-        running += t;
-        cdf.push(running);
-    }
-    let mut chain_u = vec![0.0f32; (n * dims) as usize];
-    let mut chains = vec![ChainState::default(); n as usize];
-    for p in 0..n {
-        let key = RngKey {
-            seed: s.seed,
-            chain: p,
-            iteration: BOOTSTRAP_ITERATION,
-            dimension: rng::dimension(rng::STREAM_CONTROL, rng::CONTROL_BOOTSTRAP_PICK),
-        };
-        let target = rng::uniform(key) as f64 * sum;
-        let g = cdf.partition_point(|&x| x <= target).min(cdf.len() - 1);
-        for dim in 0..dims {
-            chain_u[(p + dim * n) as usize] = bootstrap_sample(s.seed, g as u32, dim);
-        }
-        chains[p as usize] = ChainState {
-            contribution: contributions[g].to_array(),
-            depth: g as u32 % (s.max_depth + 1),
-            ..Default::default()
-        };
-    }
-    backend.start(&chain_u, &chains)?;
-    stats.bootstrap_seconds = start.elapsed().as_secs_f64();
-
-    // Iterations.
-    let mut image = vec![0.0f64; pixels as usize * 3];
-    let start = Instant::now();
+    let mut r = Renderer::start(scene, s, backend)?;
+    let pixels = s.width as f64 * s.height as f64;
     loop {
-        let params = RenderParams { iteration: stats.iterations as u32, ..base };
-        backend.iterate(&params)?;
-        stats.iterations += 1;
-        stats.candidates += c as u64;
-        let elapsed = start.elapsed().as_secs_f64();
+        r.iterate()?;
+        let stats = r.stats();
         let fraction = match s.budget {
-            Budget::Seconds(t) => elapsed / t,
-            Budget::MutationsPerPixel(m) => stats.candidates as f64 / (m * pixels as f64),
+            Budget::Seconds(t) => stats.render_seconds / t,
+            Budget::MutationsPerPixel(m) => stats.candidates as f64 / (m * pixels),
         };
         let done = fraction >= 1.0 || observer.stop_requested();
-        if done || stats.iterations.is_multiple_of(DRAIN_EVERY) {
-            stats.steps += backend.drain(&mut image)?;
-            observer.progress(fraction.min(1.0));
-            if !done && observer.checkpoint_due(elapsed) {
-                stats.render_seconds = elapsed;
-                observer.checkpoint(&finish(&image, s, &stats));
-            }
-        }
         if done {
             break;
         }
+        if stats.iterations.is_multiple_of(DRAIN_EVERY) {
+            observer.progress(fraction.min(1.0));
+            let elapsed = stats.render_seconds;
+            if observer.checkpoint_due(elapsed) {
+                let image = r.image()?;
+                observer.checkpoint(&image);
+            }
+        }
     }
-    stats.render_seconds = start.elapsed().as_secs_f64();
-    let states = backend.chain_states()?;
-    stats.acceptance = states.iter().map(|x| x.accepted as f64).sum::<f64>() / stats.steps;
-    stats.invalid = states.iter().map(|x| x.invalid as u64).sum();
-    Ok(finish(&image, s, &stats))
+    observer.progress(1.0);
+    r.snapshot()
 }

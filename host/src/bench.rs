@@ -1,0 +1,273 @@
+//! `smlt bench`: the seed's evaluation on our scenes — equal-time runs of each method per
+//! scene/view in one process on one device, interleaved (every method is advanced in turns to
+//! the same render times 1, 2, 4, … s), each compared with the scene's reference image.
+//!
+//! Writes to the output folder: `results.csv` (one row per method and time: scene, view,
+//! method, seconds, candidates, steps, mutations/s, steps/s, RMSE, relMSE, PSNR — error along
+//! time, so convergence is a curve), `tables.md` (the seed's Table 3: million mutations/s, and
+//! Table 4: PSNR after the full time), the final image of each method and error heat maps of
+//! naive and the best method (`metrics::heat_map`), and the cached references.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::gpu::Gpu;
+use crate::metrics::{errors, heat_map, Errors};
+use crate::reference::{cached, content_hash, render_reference, sidecar, ReferenceSettings};
+use crate::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Settings};
+use crate::scene::SceneData;
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct BenchSettings {
+    /// (scene name, view): generated scenes by name, or glTF paths.
+    pub scenes: Vec<(String, u32)>,
+    /// Methods to compare.
+    pub methods: Vec<Method>,
+    /// Render seconds per method.
+    pub seconds: f64,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Maximum bounces.
+    pub max_depth: u32,
+    /// Seed.
+    pub seed: u32,
+    /// Samples per pixel of the references.
+    pub reference_spp: u32,
+    /// Candidates per iteration (None: by device, as `smlt render`).
+    pub candidates: Option<u32>,
+    /// Tessellation of generated scenes.
+    pub tessellation: u32,
+    /// Output folder.
+    pub out: PathBuf,
+}
+
+/// One measurement.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// Scene name.
+    pub scene: String,
+    /// View.
+    pub view: u32,
+    /// Method.
+    pub method: String,
+    /// Render seconds so far.
+    pub seconds: f64,
+    /// Candidates traced so far.
+    pub candidates: u64,
+    /// Chain steps so far.
+    pub steps: f64,
+    /// Candidates per second.
+    pub mutations_per_s: f64,
+    /// Chain steps per second.
+    pub steps_per_s: f64,
+    /// Errors against the reference.
+    pub errors: Errors,
+}
+
+/// The CSV header of `results.csv`.
+pub const CSV_HEADER: &str =
+    "scene,view,method,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr";
+
+impl Row {
+    /// The row as CSV.
+    pub fn csv(&self) -> String {
+        format!(
+            "{},{},{},{:.3},{},{:.0},{:.1},{:.1},{:.6e},{:.6e},{:.3}",
+            self.scene,
+            self.view,
+            self.method,
+            self.seconds,
+            self.candidates,
+            self.steps,
+            self.mutations_per_s,
+            self.steps_per_s,
+            self.errors.rmse,
+            self.errors.relmse,
+            self.errors.psnr
+        )
+    }
+}
+
+/// The render times at which every method is measured: 1, 2, 4, … below `seconds`, and `seconds`.
+pub fn time_grid(seconds: f64) -> Vec<f64> {
+    let mut grid = Vec::new();
+    let mut t = 1.0;
+    while t < seconds {
+        grid.push(t);
+        t *= 2.0;
+    }
+    grid.push(seconds);
+    grid
+}
+
+fn scene_text(name: &str, tessellation: u32) -> std::io::Result<(String, Vec<u8>)> {
+    match crate::scenes::generate(name, tessellation) {
+        Some(text) => Ok((name.to_string(), text.into_bytes())),
+        None => Ok((
+            Path::new(name).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+            std::fs::read(name)?,
+        )),
+    }
+}
+
+/// Runs the bench; `log` gets one line per measurement.
+pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> anyhow::Result<Vec<Row>> {
+    std::fs::create_dir_all(&b.out)?;
+    let mut rows = Vec::new();
+    for (name, view) in &b.scenes {
+        let (label, bytes) = scene_text(name, b.tessellation)?;
+        let mut scene = SceneData::from_slice(&bytes, &label)?;
+        scene.select_view(*view)?;
+        // The reference: cached with its settings. A CPU Vulkan device (lavapipe) is slower than
+        // the host's own threads for it, so then the host renders it.
+        let reference_path = b.out.join(format!("reference_{label}_v{view}.exr"));
+        let rs = ReferenceSettings {
+            scene: format!("{label} view {view}"),
+            scene_hash: content_hash(&bytes),
+            width: b.width,
+            height: b.height,
+            max_depth: b.max_depth,
+            spp: b.reference_spp,
+            seed: b.seed.wrapping_add(1000),
+        };
+        if !cached(&reference_path, &rs) {
+            let device = gpu.filter(|g| g.info.device_type != wgpu::DeviceType::Cpu);
+            let rgb = render_reference(&scene, &rs, device, 16, |_| {})?;
+            crate::output::write_images(&reference_path, b.width, b.height, &rgb)?;
+            std::fs::write(sidecar(&reference_path), serde_json::to_string_pretty(&rs)?)?;
+        }
+        let (_, _, reference) = crate::output::read_exr(&reference_path)?;
+        // One backend and one renderer per method, all on the same device.
+        let candidates = b.candidates.unwrap_or(match gpu {
+            Some(g) if g.info.device_type == wgpu::DeviceType::Cpu => 16384,
+            Some(_) => 262_144,
+            None => 4096,
+        });
+        let settings: Vec<Settings> = b
+            .methods
+            .iter()
+            .map(|m| Settings {
+                width: b.width,
+                height: b.height,
+                max_depth: b.max_depth,
+                seed: b.seed,
+                method: *m,
+                budget: Budget::Seconds(b.seconds),
+                candidates,
+                bootstrap_samples: 65536,
+                mutation: Default::default(),
+            })
+            .collect();
+        let mut backends: Vec<Box<dyn Backend + '_>> = Vec::new();
+        for s in &settings {
+            let params = render::base_params(&scene, s);
+            backends.push(match gpu {
+                Some(g) => Box::new(GpuBackend::new(g.clone(), &scene, &params)?),
+                None => Box::new(CpuBackend::new(&scene, &params)),
+            });
+        }
+        let mut renderers: Vec<Renderer> = Vec::new();
+        for (s, backend) in settings.iter().zip(backends.iter_mut()) {
+            renderers.push(Renderer::start(&scene, s, backend.as_mut())?);
+        }
+        let mut last: Vec<Vec<f32>> = vec![Vec::new(); renderers.len()];
+        for t in time_grid(b.seconds) {
+            for (i, r) in renderers.iter_mut().enumerate() {
+                while r.stats().render_seconds < t {
+                    r.iterate()?;
+                }
+                let image = r.snapshot()?;
+                let st = &image.stats;
+                let row = Row {
+                    scene: label.clone(),
+                    view: *view,
+                    method: b.methods[i].to_string(),
+                    seconds: st.render_seconds,
+                    candidates: st.candidates,
+                    steps: st.steps,
+                    mutations_per_s: st.candidates as f64 / st.render_seconds,
+                    steps_per_s: st.steps / st.render_seconds,
+                    errors: errors(&image.rgb, &reference),
+                };
+                log(&row.csv());
+                rows.push(row);
+                last[i] = image.rgb;
+            }
+        }
+        // Final images and the heat maps of naive and of the best method, on one scale.
+        let finals: Vec<&Row> = rows.iter().rev().take(b.methods.len()).collect();
+        let best =
+            finals.iter().min_by(|a, b| a.errors.rmse.total_cmp(&b.errors.rmse)).map(|r| r.method.clone());
+        let scale = 2.0 * finals.iter().map(|r| r.errors.rmse).fold(0.0, f64::max).max(1e-6);
+        for (i, m) in b.methods.iter().enumerate() {
+            let stem = format!("{label}_v{view}_{m}");
+            crate::output::write_images(&b.out.join(format!("{stem}.exr")), b.width, b.height, &last[i])?;
+            if *m == Method::Tree(1) || Some(m.to_string()) == best {
+                heat_map(&last[i], &reference, b.width, b.height, scale)
+                    .save(b.out.join(format!("heat_{stem}.png")))?;
+            }
+        }
+    }
+    std::fs::write(
+        b.out.join("results.csv"),
+        rows.iter().fold(format!("{CSV_HEADER}\n"), |mut s, r| {
+            s.push_str(&r.csv());
+            s.push('\n');
+            s
+        }),
+    )?;
+    std::fs::write(b.out.join("tables.md"), tables(b, &rows))?;
+    Ok(rows)
+}
+
+/// The seed's Table 3 (million mutations/s) and Table 4 (PSNR after the full time), with
+/// RMSE, as Markdown: methods down, scene views across, values at the last measurement.
+pub fn tables(b: &BenchSettings, rows: &[Row]) -> String {
+    let final_row = |scene: &str, view: u32, method: &str| {
+        rows.iter().rfind(|r| r.scene == scene && r.view == view && r.method == method)
+    };
+    let columns: Vec<(String, u32)> = {
+        let mut c: Vec<(String, u32)> = Vec::new();
+        for r in rows {
+            if !c.contains(&(r.scene.clone(), r.view)) {
+                c.push((r.scene.clone(), r.view));
+            }
+        }
+        c
+    };
+    let mut out = String::new();
+    let header = columns.iter().map(|(s, v)| format!(" {s} v{v} |")).collect::<String>();
+    let rule = "---|".repeat(columns.len());
+    for (title, value) in [
+        ("Million mutations (candidates) per second", 0),
+        ("Speedup of mutations/s over naive", 1),
+        (&*format!("PSNR (dB, peak 1 on clamped values) after {} s", b.seconds), 2),
+        (&*format!("RMSE after {} s", b.seconds), 3),
+    ] {
+        let _ = writeln!(out, "### {title}\n\n| method |{header}\n|---|{rule}");
+        for m in &b.methods {
+            let m = m.to_string();
+            let cells: String = columns
+                .iter()
+                .map(|(s, v)| match final_row(s, *v, &m) {
+                    Some(r) => match value {
+                        0 => format!(" {:.3} |", r.mutations_per_s / 1e6),
+                        1 => match final_row(s, *v, "naive") {
+                            Some(n) => format!(" {:.2}× |", r.mutations_per_s / n.mutations_per_s),
+                            None => " — |".into(),
+                        },
+                        2 => format!(" {:.2} |", r.errors.psnr),
+                        _ => format!(" {:.4} |", r.errors.rmse),
+                    },
+                    None => " — |".into(),
+                })
+                .collect();
+            let _ = writeln!(out, "| {m} |{cells}");
+        }
+        out.push('\n');
+    }
+    out
+}
