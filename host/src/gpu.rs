@@ -80,7 +80,13 @@ pub struct Gpu {
     pub module: wgpu::ShaderModule,
     /// How the module was loaded.
     pub shader_path: ShaderPath,
+    /// Pipelines already built, by entry point and binding signature: a driver compiles a
+    /// large kernel in seconds, and the bench builds the same passes for many methods.
+    pipelines: std::sync::Arc<std::sync::Mutex<PipelineCache>>,
 }
+
+type PipelineCache =
+    std::collections::HashMap<(String, Vec<bool>), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>;
 
 /// The names of a SPIR-V module's entry points (from its `OpEntryPoint` instructions).
 pub fn spirv_entry_points(words: &[u32]) -> Vec<String> {
@@ -180,7 +186,7 @@ impl Gpu {
             }
             (module, ShaderPath::Naga)
         };
-        Ok(Self { info, limits, device, queue, module, shader_path })
+        Ok(Self { info, limits, device, queue, module, shader_path, pipelines: Default::default() })
     }
 
     /// A one-line description of the device: name, type, driver, and how kernels are loaded.
@@ -194,6 +200,20 @@ impl Gpu {
     /// A compute pipeline for entry point `entry` whose bindings 0.. are storage buffers,
     /// `read_only[i]` saying which ones the kernel only reads.
     pub fn pipeline(
+        &self,
+        entry: &str,
+        read_only: &[bool],
+    ) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
+        let key = (entry.to_string(), read_only.to_vec());
+        if let Some(hit) = self.pipelines.lock().expect("pipeline cache").get(&key) {
+            return Ok(hit.clone());
+        }
+        let built = self.build_pipeline(entry, read_only)?;
+        self.pipelines.lock().expect("pipeline cache").insert(key, built.clone());
+        Ok(built)
+    }
+
+    fn build_pipeline(
         &self,
         entry: &str,
         read_only: &[bool],
