@@ -85,6 +85,8 @@ fn bad_input_gets_one_line_and_no_output() {
         (vec!["render".into(), "--method".into(), "s9".into()], "s9"),
         (vec!["render".into(), "--method".into(), "s0".into()], "s0"),
         (vec!["render".into(), "--method".into(), "bogus".into()], "bogus"),
+        (vec!["render".into(), "--method".into(), "rc1".into()], "rc1"),
+        (vec!["render".into(), "--method".into(), "rc65".into()], "rc65"),
         (vec!["render".into(), "--width".into(), "0".into()], "width"),
         (vec!["render".into(), "--time".into(), "-1".into()], "time"),
         (vec!["render".into(), "--time".into(), "0".into()], "time"),
@@ -320,7 +322,7 @@ fn the_bench_writes_a_well_formed_csv() {
     // 2 scene views × 3 methods × 2 times (1 s and 1.5 s).
     assert_eq!(rows.len(), 12, "{csv}");
     for r in &rows {
-        assert_eq!(r.len(), 11, "{r:?}");
+        assert_eq!(r.len(), 12, "{r:?}");
         assert!(["naive", "s2", "rc2"].contains(&r[2].as_str()));
         for field in &r[3..] {
             let v: f64 = field.parse().unwrap_or_else(|_| panic!("{field} in {r:?}"));

@@ -102,7 +102,7 @@ fn unsupported_content_is_an_error_or_a_warning() {
     doc["buffers"][0]["uri"] = json!("missing.bin");
     std::fs::write(dir.join("missing-buffer.gltf"), doc.to_string()).unwrap();
     let err = SceneData::load(&dir.join("missing-buffer.gltf")).unwrap_err().to_string();
-    assert!(err.contains("cannot load glTF scene") && err.contains("missing-buffer.gltf"), "{err}");
+    assert!(err.contains("missing-buffer.gltf") && err.contains("'missing.bin', does not exist"), "{err}");
     let err = SceneData::load(&dir.join("nope.gltf")).unwrap_err().to_string();
     assert!(err.contains("nope.gltf"), "{err}");
     let err = SceneData::load(&dir).unwrap_err().to_string();

@@ -3,8 +3,9 @@
 //! the same render times 1, 2, 4, … s), each compared with the scene's reference image.
 //!
 //! Writes to the output folder: `results.csv` (one row per method and time: scene, view,
-//! method, seconds, candidates, steps, mutations/s, steps/s, RMSE, relMSE, PSNR — error along
-//! time, so convergence is a curve), `tables.md` (the seed's Table 3: million mutations/s, and
+//! method, seconds, candidates, steps, mutations/s, steps/s, RMSE, relMSE, PSNR, and the
+//! candidates rejected as NaN/Inf — error along time, so convergence is a curve; one scene,
+//! one method and a long time is the soak run), `tables.md` (the seed's Table 3: million mutations/s, and
 //! Table 4: PSNR after the full time), the final image of each method and error heat maps of
 //! naive and the best method (`metrics::heat_map`), and the cached references.
 
@@ -65,6 +66,8 @@ pub struct Row {
     pub steps_per_s: f64,
     /// Errors against the reference.
     pub errors: Errors,
+    /// Candidates rejected so far for a NaN or infinite contribution (never splatted).
+    pub nan_inf: u64,
 }
 
 /// The CSV header of `results.csv`.
@@ -75,7 +78,7 @@ impl Row {
     /// The row as CSV.
     pub fn csv(&self) -> String {
         format!(
-            "{},{},{},{:.3},{},{:.0},{:.1},{:.1},{:.6e},{:.6e},{:.3}",
+            "{},{},{},{:.3},{},{:.0},{:.1},{:.1},{:.6e},{:.6e},{:.3},{}",
             self.scene,
             self.view,
             self.method,
@@ -86,7 +89,8 @@ impl Row {
             self.steps_per_s,
             self.errors.rmse,
             self.errors.relmse,
-            self.errors.psnr
+            self.errors.psnr,
+            self.nan_inf
         )
     }
 }
@@ -191,6 +195,7 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
                     mutations_per_s: st.candidates as f64 / st.render_seconds,
                     steps_per_s: st.steps / st.render_seconds,
                     errors: errors(&image.rgb, &reference),
+                    nan_inf: st.invalid,
                 };
                 log(&row.csv());
                 rows.push(row);

@@ -306,6 +306,8 @@ fn render_command(a: RenderArgs) -> anyhow::Result<()> {
         mutation: MutationParams { p_large: a.p_large, ..Default::default() },
     };
     let params = render::base_params(&scene, &settings);
+    let device_mib = render::gpu::device_bytes(&scene, &params) as f64 / 1048576.0;
+    let on_gpu = gpu.is_some();
     let mut backend: Box<dyn render::Backend + '_> = match gpu {
         Some(gpu) => Box::new(render::gpu::GpuBackend::new(gpu, &scene, &params)?),
         None => Box::new(render::cpu::CpuBackend::new(&scene, &params)),
@@ -361,6 +363,9 @@ fn render_command(a: RenderArgs) -> anyhow::Result<()> {
     println!("normalisation b      {:.6} ± {:.6}", s.b, s.b_standard_error);
     println!("NaN/Inf rejected     {}", s.invalid);
     println!("bootstrap            {} samples in {:.2} s", s.bootstrap_samples, s.bootstrap_seconds);
+    if on_gpu {
+        println!("device buffers       {device_mib:.1} MiB");
+    }
     println!("render time          {:.2} s", s.render_seconds);
     if checkpoints.get() > 0 {
         println!("checkpoints          {}", checkpoints.get());

@@ -160,8 +160,13 @@ impl SceneData {
         if path.is_dir() {
             return Err(SceneError::Load { path: name, reason: "is a directory, not a glTF file".into() });
         }
-        let (doc, buffers, _images) =
-            gltf::import(path).map_err(|e| SceneError::Load { path: name.clone(), reason: e.to_string() })?;
+        let (doc, buffers, _images) = gltf::import(path).map_err(|e| {
+            let reason = match (&e, missing_resource(path)) {
+                (gltf::Error::Io(_), Some(uri)) => format!("the file it refers to, '{uri}', does not exist"),
+                _ => e.to_string(),
+            };
+            SceneError::Load { path: name.clone(), reason }
+        })?;
         let soup = read_document(&doc, &buffers, &name)?;
         Self::from_soup(soup, &name)
     }
@@ -260,6 +265,22 @@ impl SceneData {
             warnings: soup.warnings,
         })
     }
+}
+
+/// The first buffer or image URI of the glTF at `path` (a readable file) whose file is
+/// missing, to name it in the error.
+fn missing_resource(path: &Path) -> Option<String> {
+    let gltf = gltf::Gltf::open(path).ok()?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let buffers = gltf.buffers().filter_map(|b| match b.source() {
+        gltf::buffer::Source::Uri(uri) => Some(uri.to_string()),
+        gltf::buffer::Source::Bin => None,
+    });
+    let images = gltf.images().filter_map(|i| match i.source() {
+        gltf::image::Source::Uri { uri, .. } => Some(uri.to_string()),
+        gltf::image::Source::View { .. } => None,
+    });
+    buffers.chain(images).find(|uri| !uri.starts_with("data:") && !dir.join(uri).exists())
 }
 
 /// The documented default camera: 40° vertical field of view, looking down −Z at the box's

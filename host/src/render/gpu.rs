@@ -52,6 +52,12 @@ pub struct GpuBackend {
     splat_records: u32,
 }
 
+/// Total bytes of the render's device buffers (what `smlt render` reports as device memory).
+pub fn device_bytes(scene: &SceneData, p: &RenderParams) -> u64 {
+    buffer_sizes(scene, p).iter().map(|(_, b)| b).sum::<u64>()
+        + std::mem::size_of_val(&scene.materials[..]) as u64
+}
+
 /// Byte sizes of the render's buffers, by name, for a limits check before allocating.
 pub fn buffer_sizes(scene: &SceneData, p: &RenderParams) -> Vec<(&'static str, u64)> {
     let c = p.candidates as u64;
