@@ -63,6 +63,19 @@ fn count_invalid<const N: usize>(c: &[f32; N], from: usize, to: usize) -> u32 {
     n
 }
 
+/// The targets c of a chain's `states` distinct states: the current state (`root`) first,
+/// then its candidates from `contributions[base..]`.
+fn targets<const N: usize>(root: Vec4, contributions: &[Vec4], base: u32, states: u32) -> [f32; N] {
+    let mut c = [0.0f32; N];
+    c[0] = luminance(root.truncate());
+    let mut s = 1u32;
+    while s < states {
+        c[s as usize] = luminance(contributions[(base + s - 1) as usize].truncate());
+        s += 1;
+    }
+    c
+}
+
 /// The speculative tree: Eq. 2 leaf probabilities, generalised Eq. 3 weights.
 fn select_tree(
     p: u32,
@@ -74,19 +87,13 @@ fn select_tree(
     let d = params.tree_depth;
     let states = params.states_per_chain();
     let base = p * (states - 1);
-    let mut c = [0.0f32; MAX_TREE_STATES];
-    c[0] = luminance(root.truncate());
-    let mut s = 1u32;
-    while s < states {
-        c[s as usize] = luminance(contributions[(base + s - 1) as usize].truncate());
-        s += 1;
-    }
+    let c: [f32; MAX_TREE_STATES] = targets(root, contributions, base, states);
     let mut accept = [0.0f32; MAX_TREE_CANDIDATES];
     let mut leaf = [0.0f32; MAX_TREE_LEAVES];
     let mut weight = [0.0f32; MAX_TREE_STATES];
     tree::evaluate_tree(d, &c, &mut accept, &mut leaf, &mut weight);
     let mut accepted = 0.0f32;
-    s = 0;
+    let mut s = 0;
     while s < states {
         let v = if s == 0 { root } else { contributions[(base + s - 1) as usize] };
         splats[(p * states + s) as usize] = splat_record(v, c[s as usize], weight[s as usize]);
@@ -119,18 +126,12 @@ fn select_reject_chain(
     let l = params.reject_length;
     let states = l + 1;
     let base = p * l;
-    let mut c = [0.0f32; MAX_REJECT_CHAIN_STATES];
-    c[0] = luminance(root.truncate());
-    let mut s = 1u32;
-    while s < states {
-        c[s as usize] = luminance(contributions[(base + s - 1) as usize].truncate());
-        s += 1;
-    }
+    let c: [f32; MAX_REJECT_CHAIN_STATES] = targets(root, contributions, base, states);
     let mut accept = [0.0f32; MAX_REJECT_CHAIN as usize];
     let mut next = [0.0f32; MAX_REJECT_CHAIN_STATES];
     let mut weight = [0.0f32; MAX_REJECT_CHAIN_STATES];
     let steps = reject_chain::evaluate_reject_chain(l, &c, &mut accept, &mut next, &mut weight);
-    s = 0;
+    let mut s = 0;
     while s < states {
         let v = if s == 0 { root } else { contributions[(base + s - 1) as usize] };
         splats[(p * states + s) as usize] = splat_record(v, c[s as usize], weight[s as usize]);
