@@ -317,12 +317,16 @@ fn the_bench_writes_a_well_formed_csv() {
     assert!(ok, "{stderr}");
     let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some(smlt::bench::CSV_HEADER));
+    let header = lines.next().unwrap();
+    assert_eq!(header, smlt::bench::CSV_HEADER);
+    assert!(header.starts_with(
+        "scene,view,method,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr"
+    ));
     let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(String::from).collect()).collect();
     // 2 scene views × 3 methods × 2 times (1 s and 1.5 s).
     assert_eq!(rows.len(), 12, "{csv}");
     for r in &rows {
-        assert_eq!(r.len(), 12, "{r:?}");
+        assert_eq!(r.len(), header.split(',').count(), "{r:?} against {header}");
         assert!(["naive", "s2", "rc2"].contains(&r[2].as_str()));
         for field in &r[3..] {
             let v: f64 = field.parse().unwrap_or_else(|_| panic!("{field} in {r:?}"));

@@ -72,7 +72,7 @@ pub struct Row {
 
 /// The CSV header of `results.csv`.
 pub const CSV_HEADER: &str =
-    "scene,view,method,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr";
+    "scene,view,method,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr,nan_inf";
 
 impl Row {
     /// The row as CSV.
