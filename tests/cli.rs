@@ -336,6 +336,32 @@ fn the_bench_writes_a_well_formed_csv() {
     let tables = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     assert!(tables.contains("Million mutations") && tables.contains("PSNR") && tables.contains("| rc2 |"));
     assert!(dir.join("heat_cornell_v1_naive.png").exists());
+    for plot in ["speedup.png", "error_cornell_v1.png", "error_atrium_v2.png"] {
+        let img = image::open(dir.join(plot)).unwrap_or_else(|e| panic!("{plot}: {e}"));
+        assert!(img.width() >= 800 && img.height() >= 500);
+    }
+    // The plots can be redrawn from the CSV alone.
+    let again = dir.join("again");
+    let (ok, stdout, stderr) =
+        smlt(&["plot", dir.join("results.csv").to_str().unwrap(), "--out", again.to_str().unwrap()]);
+    assert!(ok && stdout.contains("12 rows"), "{stderr}");
+    assert!(again.join("speedup.png").exists());
     assert!(dir.join("reference_atrium_v2.exr.json").exists());
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Output into a closed pipe (`smlt … | head -0`) ends the process quietly, never in a panic.
+#[test]
+fn a_closed_stdout_pipe_is_not_a_panic() {
+    let output = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "{} scene --help | head -c 0; {} --help | head -c 1",
+            env!("CARGO_BIN_EXE_smlt"),
+            env!("CARGO_BIN_EXE_smlt")
+        ))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
 }

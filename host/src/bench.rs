@@ -6,8 +6,10 @@
 //! method, seconds, candidates, steps, mutations/s, steps/s, RMSE, relMSE, PSNR, and the
 //! candidates rejected as NaN/Inf — error along time, so convergence is a curve; one scene,
 //! one method and a long time is the soak run), `tables.md` (the seed's Table 3: million mutations/s, and
-//! Table 4: PSNR after the full time), the final image of each method and error heat maps of
-//! naive and the best method (`metrics::heat_map`), and the cached references.
+//! Table 4: PSNR after the full time), the plots of `plots` (`speedup.png`, the seed's Fig. 7,
+//! and `error_<scene>_v<view>.png`, RMSE against time on log–log axes), the final image of each
+//! method and error heat maps of naive and the best method (`metrics::heat_map`), and the cached
+//! references.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -93,6 +95,53 @@ impl Row {
             self.nan_inf
         )
     }
+}
+
+/// Reads the rows of a `results.csv` (the NaN/Inf column may be absent, as in files written
+/// before it existed).
+pub fn read_csv(text: &str) -> anyhow::Result<Vec<Row>> {
+    let mut rows = Vec::new();
+    for (i, line) in text.lines().enumerate().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() < 11 {
+            anyhow::bail!("line {}: {} fields, expected at least 11", i + 1, f.len());
+        }
+        let num = |k: usize| -> anyhow::Result<f64> {
+            f[k].parse::<f64>().map_err(|e| anyhow::anyhow!("line {}, field {}: {e}", i + 1, k + 1))
+        };
+        rows.push(Row {
+            scene: f[0].to_string(),
+            view: num(1)? as u32,
+            method: f[2].to_string(),
+            seconds: num(3)?,
+            candidates: num(4)? as u64,
+            steps: num(5)?,
+            mutations_per_s: num(6)?,
+            steps_per_s: num(7)?,
+            errors: Errors { rmse: num(8)?, relmse: num(9)?, psnr: num(10)? },
+            nan_inf: if f.len() > 11 { num(11)? as u64 } else { 0 },
+        });
+    }
+    Ok(rows)
+}
+
+/// Writes the plots of `rows` into `out`: `speedup.png` and one `error_<scene>_v<view>.png` per
+/// scene view.
+pub fn plot(rows: &[Row], out: &Path) -> anyhow::Result<()> {
+    crate::plots::speedup_plot(rows, &out.join("speedup.png"))?;
+    let mut done: Vec<(String, u32)> = Vec::new();
+    for r in rows {
+        if !done.contains(&(r.scene.clone(), r.view)) {
+            done.push((r.scene.clone(), r.view));
+            crate::plots::error_plot(
+                rows,
+                &r.scene,
+                r.view,
+                &out.join(format!("error_{}_v{}.png", r.scene, r.view)),
+            )?;
+        }
+    }
+    Ok(())
 }
 
 /// The render times at which every method is measured: 1, 2, 4, … below `seconds`, and `seconds`.
@@ -225,6 +274,7 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
         }),
     )?;
     std::fs::write(b.out.join("tables.md"), tables(b, &rows))?;
+    plot(&rows, &b.out)?;
     Ok(rows)
 }
 

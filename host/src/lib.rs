@@ -7,6 +7,7 @@ pub mod gpu;
 pub mod metrics;
 pub mod output;
 pub mod passes;
+pub mod plots;
 pub mod reference;
 pub mod render;
 pub mod scene;

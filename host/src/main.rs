@@ -217,6 +217,14 @@ struct BenchArgs {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Draws the bench's plots (speedup.png, error_<scene>_v<view>.png) from a results.csv.
+    Plot {
+        /// The bench's results.csv.
+        csv: PathBuf,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Equal-time comparison of the methods against reference images: CSV, tables, heat maps.
     Bench(BenchArgs),
     /// Renders a scene's ground truth with an independent path tracer (next-event estimation and
@@ -466,6 +474,16 @@ fn bench_command(a: BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+fn plot_command(csv: &Path, out: &Path) -> anyhow::Result<()> {
+    let text =
+        std::fs::read_to_string(csv).map_err(|e| anyhow::anyhow!("cannot read {}: {e}", csv.display()))?;
+    let rows = smlt::bench::read_csv(&text).map_err(|e| anyhow::anyhow!("{}: {e}", csv.display()))?;
+    std::fs::create_dir_all(out)?;
+    smlt::bench::plot(&rows, out)?;
+    println!("wrote the plots of {} rows to {}", rows.len(), out.display());
+    Ok(())
+}
+
 fn scene_command(name: &str, out: &PathBuf, tessellation: u32) -> anyhow::Result<()> {
     let Some(text) = smlt::scenes::generate(name, tessellation) else {
         anyhow::bail!("unknown scene '{name}': known scenes are cornell, atrium, nave and sunblind");
@@ -476,6 +494,13 @@ fn scene_command(name: &str, out: &PathBuf, tessellation: u32) -> anyhow::Result
 }
 
 fn main() -> ExitCode {
+    // Like other command-line tools, end quietly when stdout is a closed pipe (`smlt … | head`)
+    // instead of panicking in println!. Rust ignores SIGPIPE by default; restore the default.
+    // SAFETY: called first thing in main, before any other thread exists.
+    #[cfg(unix)]
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {
@@ -494,6 +519,7 @@ fn main() -> ExitCode {
         Command::Render(a) => render_command(a),
         Command::Reference(a) => reference_command(a),
         Command::Bench(a) => bench_command(a),
+        Command::Plot { csv, out } => plot_command(&csv, &out),
         Command::Scene { name, out, tessellation } => scene_command(&name, &out, tessellation),
     };
     match result {
