@@ -522,14 +522,6 @@ fn light_origin_pdf(scene: Scene, v: &PathVertex) -> f32 {
     scene.triangles[v.triangle as usize].light_area_pdf
 }
 
-/// Density of light `light` (an emitting surface vertex) emitting towards `to`, at `to`.
-#[inline]
-fn light_emission_pdf(light: &PathVertex, to: &PathVertex) -> f32 {
-    let w = (to.position() - light.position()).normalize_or_zero();
-    let pdf_dir = light.normal().dot(w).max(0.0) / PI;
-    convert_density(pdf_dir, light.position(), to.position(), to.normal(), to.kind != KIND_CAMERA)
-}
-
 /// Ratio p_rev / p_fwd of one vertex, 0 when it has no forward density.
 #[inline]
 fn density_ratio(rev: f32, fwd: f32) -> f32 {
@@ -700,7 +692,9 @@ fn mis_weight(
         if s > 0 {
             vertex_pdf(scene, &cam, qs.position(), pt, pt_minus)
         } else {
-            light_emission_pdf(pt, pt_minus)
+            // pt lies on a light: its density of emitting towards pt−.
+            let as_light = PathVertex { kind: KIND_LIGHT, ..*pt };
+            vertex_pdf(scene, &cam, Vec3::ZERO, &as_light, pt_minus)
         }
     } else {
         0.0
