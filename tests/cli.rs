@@ -336,6 +336,27 @@ fn the_bench_writes_a_well_formed_csv() {
     let tables = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     assert!(tables.contains("Million mutations") && tables.contains("PSNR") && tables.contains("| rc2 |"));
     assert!(dir.join("heat_cornell_v1_naive.png").exists());
+    if device == "gpu" {
+        // Inside an iteration: a profile per scene view and method, every number positive.
+        let passes = std::fs::read_to_string(dir.join("passes.csv")).unwrap();
+        let mut lines = passes.lines();
+        let header = lines.next().unwrap();
+        assert_eq!(header, smlt::profile::CSV_HEADER);
+        let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+        assert_eq!(rows.len(), 6, "{passes}");
+        for r in &rows {
+            assert_eq!(r.len(), header.split(',').count(), "{r:?}");
+            assert!(r[4] == "timestamp" || r[4] == "wall");
+            for field in r[5..].iter().chain(&r[3..4]) {
+                let v: f64 = field.parse().unwrap_or_else(|_| panic!("{field} in {r:?}"));
+                assert!(v.is_finite() && v >= 0.0, "{r:?}");
+            }
+            let rays_per_candidate: f64 = r[10].parse().unwrap();
+            // Most techniques trace a camera ray, and most connections cast a shadow ray.
+            assert!(rays_per_candidate > 0.5, "{r:?}");
+        }
+        assert!(tables.contains("Inside an iteration: atrium v2") && tables.contains("bare M rays/s"));
+    }
     for plot in ["speedup.png", "error_cornell_v1.png", "error_atrium_v2.png"] {
         let img = image::open(dir.join(plot)).unwrap_or_else(|e| panic!("{plot}: {e}"));
         assert!(img.width() >= 800 && img.height() >= 500);

@@ -304,7 +304,8 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
     let (n, c, dims) = (base.chains as usize, base.candidates as usize, base.dims as usize);
     let mut dev = gpu::GpuBackend::new(gpu, &scene, &base).expect("device buffers");
     let chain_u: Vec<f32> = (0..n * dims).map(|i| (i as f32 * 0.618_034).fract()).collect();
-    dev.start(&chain_u, &vec![ChainState::default(); n]).unwrap();
+    // Chains at the deepest depth, so that every dimension is mutated.
+    dev.start(&chain_u, &vec![ChainState { depth: s.max_depth, ..Default::default() }; n]).unwrap();
     let params = RenderParams { iteration: 9, ..base };
     dev.run(&params, &[(gpu::MUTATE, params.candidates)]).unwrap();
     let u: Vec<f32> = dev.gpu().read(&dev.buffers().cand_u, c * dims).unwrap();

@@ -9,16 +9,19 @@
 //! Table 4: PSNR after the full time), the plots of `plots` (`speedup.png`, the seed's Fig. 7,
 //! and `error_<scene>_v<view>.png`, RMSE against time on log–log axes), the final image of each
 //! method and error heat maps of naive and the best method (`metrics::heat_map`), and the cached
-//! references.
+//! references; with a device also `passes.csv` and its tables (`crate::profile`: each pass's
+//! device time per iteration, rays per candidate and the bare ray throughput).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::gpu::Gpu;
 use crate::metrics::{errors, heat_map, Errors};
+use crate::profile::{profile, Profile};
 use crate::reference::{cached, content_hash, render_reference, sidecar, ReferenceSettings};
 use crate::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Settings};
 use crate::scene::SceneData;
+use shared::mmlt::RenderParams;
 
 /// What to measure.
 #[derive(Clone, Debug)]
@@ -170,6 +173,7 @@ fn scene_text(name: &str, tessellation: u32) -> std::io::Result<(String, Vec<u8>
 pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> anyhow::Result<Vec<Row>> {
     std::fs::create_dir_all(&b.out)?;
     let mut rows = Vec::new();
+    let mut profiles: Vec<Profile> = Vec::new();
     for (name, view) in &b.scenes {
         let (label, bytes) = scene_text(name, b.tessellation)?;
         let mut scene = SceneData::from_slice(&bytes, &label)?;
@@ -251,6 +255,21 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
                 last[i] = image.rgb;
             }
         }
+        // Inside an iteration: per-pass device times and the ray-casting ceiling, after the
+        // equal-time runs so that they do not disturb them.
+        let next: Vec<RenderParams> = renderers.iter().map(Renderer::next_params).collect();
+        drop(renderers);
+        for (i, backend) in backends.iter_mut().enumerate() {
+            let method = b.methods[i].to_string();
+            let Some(device) = backend.as_gpu() else { continue };
+            let measured = rows
+                .iter()
+                .rfind(|r| r.scene == label && r.view == *view && r.method == method)
+                .map_or(0.0, |r| r.mutations_per_s);
+            let p = profile(device, &scene, (&label, *view, &method), next[i], measured)?;
+            log(&format!("profile {}", p.csv()));
+            profiles.push(p);
+        }
         // Final images and the heat maps of naive and of the best method, on one scale.
         let finals: Vec<&Row> = rows.iter().rev().take(b.methods.len()).collect();
         let best =
@@ -273,7 +292,21 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
             s
         }),
     )?;
-    std::fs::write(b.out.join("tables.md"), tables(b, &rows))?;
+    let mut tables = tables(b, &rows);
+    if profiles.is_empty() {
+        log("no per-pass timings or ray ceiling: they need a Vulkan device (--device gpu)");
+    } else {
+        std::fs::write(
+            b.out.join("passes.csv"),
+            profiles.iter().fold(format!("{}\n", crate::profile::CSV_HEADER), |mut s, p| {
+                s.push_str(&p.csv());
+                s.push('\n');
+                s
+            }),
+        )?;
+        tables.push_str(&crate::profile::tables(&profiles));
+    }
+    std::fs::write(b.out.join("tables.md"), tables)?;
     plot(&rows, &b.out)?;
     Ok(rows)
 }

@@ -72,6 +72,9 @@ pub struct Gpu {
     pub info: wgpu::AdapterInfo,
     /// The device's limits (what we asked for: the adapter's own).
     pub limits: wgpu::Limits,
+    /// The optional features the device was opened with (passthrough, float atomics,
+    /// timestamp queries), where the adapter has them.
+    pub features: wgpu::Features,
     /// The logical device.
     pub device: wgpu::Device,
     /// Its queue.
@@ -134,7 +137,9 @@ impl Gpu {
             adapters.into_iter().min_by_key(|a| rank(a.get_info().device_type)).ok_or(GpuError::NoAdapter)?;
         let info = adapter.get_info();
         let limits = adapter.limits();
-        let wanted = wgpu::Features::PASSTHROUGH_SHADERS | wgpu::Features::SHADER_FLOAT32_ATOMIC;
+        let wanted = wgpu::Features::PASSTHROUGH_SHADERS
+            | wgpu::Features::SHADER_FLOAT32_ATOMIC
+            | wgpu::Features::TIMESTAMP_QUERY;
         let features = adapter.features() & wanted;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("smlt"),
@@ -186,7 +191,7 @@ impl Gpu {
             }
             (module, ShaderPath::Naga)
         };
-        Ok(Self { info, limits, device, queue, module, shader_path, pipelines: Default::default() })
+        Ok(Self { info, limits, features, device, queue, module, shader_path, pipelines: Default::default() })
     }
 
     /// A one-line description of the device: name, type, driver, and how kernels are loaded.
@@ -293,17 +298,18 @@ impl Gpu {
     }
 
     /// Records one dispatch of `threads` invocations of a 1-D kernel with workgroups of
-    /// `kernels::WORKGROUP_SIZE`.
+    /// `kernels::WORKGROUP_SIZE`, in a compute pass of its own that writes `timestamps`, if any.
     pub fn dispatch(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipeline: &wgpu::ComputePipeline,
         bind_group: &wgpu::BindGroup,
         threads: u32,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
         let groups = threads.div_ceil(kernels::WORKGROUP_SIZE);
-        let mut pass =
-            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
+        let mut pass = encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: timestamps });
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         pass.dispatch_workgroups(groups, 1, 1);

@@ -116,6 +116,16 @@ pub struct TriangleSoup {
 }
 
 impl SceneData {
+    /// The scene as the kernel bodies take it.
+    pub fn shared(&self) -> shared::mmlt::Scene<'_> {
+        shared::mmlt::Scene {
+            nodes: &self.nodes,
+            triangles: &self.triangles,
+            materials: &self.materials,
+            lights: &self.lights,
+        }
+    }
+
     /// The device camera for an image of `width` × `height`.
     pub fn camera(&self, width: u32, height: u32) -> Camera {
         let c = self.camera;

@@ -7,6 +7,7 @@
 
 pub mod connect;
 pub mod mutate;
+pub mod raycast;
 pub mod reference;
 pub mod select;
 pub mod selftest;
@@ -18,5 +19,13 @@ pub const WORKGROUP_SIZE: u32 = 64;
 
 /// Every entry point of the module, for the host to declare when it hands the SPIR-V to the
 /// driver unchanged.
-pub const ENTRY_POINTS: &[&str] =
-    &["selftest_cs", "mutate_cs", "trace_cs", "connect_cs", "select_cs", "splat_cs", "reference_cs"];
+pub const ENTRY_POINTS: &[&str] = &[
+    "selftest_cs",
+    "mutate_cs",
+    "trace_cs",
+    "connect_cs",
+    "select_cs",
+    "splat_cs",
+    "reference_cs",
+    "raycast_cs",
+];

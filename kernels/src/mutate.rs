@@ -5,10 +5,13 @@
 //! the l proposals is its own mutation of the current state. Each candidate also gets its path
 //! depth: a large step proposes a fresh uniform depth with its fresh samples, small steps keep
 //! the chain's (`shared::mutation::large_step_depth`). In bootstrap mode every candidate is a
-//! fresh independent sample of depth `index mod (max_depth + 1)`.
+//! fresh independent sample of depth `index mod (max_depth + 1)`. Groups of four dimensions
+//! that a candidate's depth never reads (`shared::mmlt::dimensions_used`) are left as they are.
 
 use shared::layout::soa_index;
-use shared::mmlt::{bootstrap_key, ChainState, RenderParams, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP};
+use shared::mmlt::{
+    bootstrap_key, dimensions_used, ChainState, RenderParams, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP,
+};
 use shared::mutation::{
     descends_from_level_one, is_large_step, is_reject_large_step, large_step_depth, reject_chain_samples,
     tree_candidate_sample, tree_level_uniforms,
@@ -56,7 +59,7 @@ pub fn mutate(
     if params.method == METHOD_REJECT_CHAIN {
         // Proposal j of the reject chain: its own mutation of the current state.
         let large = is_reject_large_step(params.seed, chain, params.iteration, j, params.mutation.p_large);
-        cand_depth[k as usize] = if large {
+        let depth = if large {
             large_step_depth(
                 params.seed,
                 chain,
@@ -67,7 +70,12 @@ pub fn mutate(
         } else {
             chains[chain as usize].depth
         };
+        cand_depth[k as usize] = depth;
         while group < groups {
+            if !dimensions_used(4 * group, 4, depth, params.max_depth) {
+                group += 1;
+                continue;
+            }
             let mut current = [0.0f32; 4];
             let mut lane = 0;
             while lane < 4 && 4 * group + lane < params.dims {
@@ -85,12 +93,17 @@ pub fn mutate(
         return;
     }
     let large = is_large_step(params.seed, chain, params.iteration, params.mutation.p_large);
-    cand_depth[k as usize] = if large && descends_from_level_one(j) {
+    let depth = if large && descends_from_level_one(j) {
         large_step_depth(params.seed, chain, params.iteration, rng::CONTROL_DEPTH, params.max_depth)
     } else {
         chains[chain as usize].depth
     };
+    cand_depth[k as usize] = depth;
     while group < groups {
+        if !dimensions_used(4 * group, 4, depth, params.max_depth) {
+            group += 1;
+            continue;
+        }
         let u = tree_level_uniforms(key, j, large, group);
         let mut lane = 0;
         while lane < 4 && 4 * group + lane < params.dims {

@@ -211,12 +211,16 @@ fn traverse(nodes: &[BvhNode], tris: &[Triangle], o: Vec3, d: Vec3, tmin: f32, t
 /// The closest triangle the ray (unit direction `d`) hits in (tmin, tmax).
 #[inline]
 pub fn closest_hit(nodes: &[BvhNode], tris: &[Triangle], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
+    #[cfg(not(target_arch = "spirv"))]
+    crate::rays::record(crate::rays::Ray::new(crate::rays::RAY_CLOSEST, o, d, tmin, tmax));
     traverse(nodes, tris, o, d, tmin, tmax, false)
 }
 
 /// Whether anything blocks the ray in (tmin, tmax).
 #[inline]
 pub fn occluded(nodes: &[BvhNode], tris: &[Triangle], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+    #[cfg(not(target_arch = "spirv"))]
+    crate::rays::record(crate::rays::Ray::new(crate::rays::RAY_OCCLUSION, o, d, tmin, tmax));
     traverse(nodes, tris, o, d, tmin, tmax, true).found()
 }
 

@@ -13,7 +13,8 @@
 //! - [`layout`]: SoA indexing and the packed `float4` contribution;
 //! - [`camera`], [`bsdf`], [`light`], [`bvh`]: the scene primitives;
 //! - [`mmlt`]: Multiplexed MLT path sampling (the trace and connect stages);
-//! - [`path_tracer`]: the independent reference estimator.
+//! - [`path_tracer`]: the independent reference estimator;
+//! - [`rays`]: ray queries as data, for the bench's bare ray throughput.
 #![cfg_attr(target_arch = "spirv", no_std)]
 #![deny(missing_docs)]
 
@@ -27,6 +28,7 @@ pub mod light;
 pub mod mmlt;
 pub mod mutation;
 pub mod path_tracer;
+pub mod rays;
 pub mod reject_chain;
 pub mod rng;
 pub mod tree;

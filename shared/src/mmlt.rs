@@ -65,6 +65,20 @@ pub fn sample_dimensions(max_depth: u32) -> u32 {
     DIM_BOUNCES + 4 * max_depth
 }
 
+/// Whether a path of `depth` bounces reads any of dimensions `first .. first + count`: the
+/// fixed dimensions, and two per bounce on each subpath up to `depth` (a camera subpath of t ≤
+/// depth + 2 vertices samples at most depth bounces, a light subpath of s ≤ depth + 1 fewer).
+/// Small steps keep a chain's depth and a large step draws every dimension afresh, so mutating
+/// the dimensions that a candidate's depth never reads changes nothing the chain can see; the
+/// `mutate` pass skips them.
+#[inline]
+pub fn dimensions_used(first: u32, count: u32, depth: u32, max_depth: u32) -> bool {
+    let end = first + count;
+    let camera_end = DIM_BOUNCES + 2 * depth;
+    let light_start = DIM_BOUNCES + 2 * max_depth;
+    first < camera_end || (end > light_start && first < light_start + 2 * depth)
+}
+
 /// First of the two dimensions of bounce `i` (0-based) on the camera (side 0) or light
 /// (side 1) subpath.
 #[inline]

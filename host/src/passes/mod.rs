@@ -4,6 +4,7 @@
 
 pub mod connect;
 pub mod mutate;
+pub mod raycast;
 pub mod reference;
 pub mod select;
 pub mod selftest;
@@ -31,8 +32,25 @@ impl Pass {
 
     /// Records a dispatch of `threads` invocations.
     pub fn encode(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, threads: u32) {
+        self.encode_timed(gpu, encoder, threads, None);
+    }
+
+    /// Records a dispatch of `threads` invocations whose compute pass writes `timestamps`.
+    pub fn encode_timed(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        threads: u32,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
         if threads > 0 {
-            gpu.dispatch(encoder, &self.pipeline, &self.bind_group, threads);
+            gpu.dispatch(encoder, &self.pipeline, &self.bind_group, threads, timestamps);
+        } else if timestamps.is_some() {
+            // Nothing to run, but the queries must still be written.
+            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: None,
+                timestamp_writes: timestamps,
+            });
         }
     }
 

@@ -62,7 +62,7 @@ impl SelfTestBatch {
         let words = gpu.storage_from("selftest words", &zero.words);
         let bind = gpu.bind(&layout, &[&cases, &inputs, &floats, &words]);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        gpu.dispatch(&mut encoder, &pipeline, &bind, self.cases.len() as u32);
+        gpu.dispatch(&mut encoder, &pipeline, &bind, self.cases.len() as u32, None);
         gpu.queue.submit([encoder.finish()]);
         Ok(SelfTestOutputs {
             floats: gpu.read(&floats, zero.floats.len())?,

@@ -50,12 +50,7 @@ impl<'a> CpuBackend<'a> {
     }
 
     fn scene(&self) -> Scene<'a> {
-        Scene {
-            nodes: &self.scene.nodes,
-            triangles: &self.scene.triangles,
-            materials: &self.scene.materials,
-            lights: &self.scene.lights,
-        }
+        self.scene.shared()
     }
 
     /// The mutate, trace and connect passes.

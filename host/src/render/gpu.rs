@@ -7,6 +7,7 @@ use super::{Backend, RenderError};
 use crate::gpu::Gpu;
 use crate::passes::{self, Pass};
 use crate::scene::SceneData;
+use crate::timing::{time_passes, Clock};
 
 /// The device buffers of a render.
 pub struct GpuBuffers {
@@ -167,6 +168,23 @@ impl GpuBackend {
     }
 }
 
+/// Device seconds of each pass of one iteration, in pass order (mutate, trace, connect,
+/// select, splat).
+pub type PassTimes = [f64; 5];
+
+impl GpuBackend {
+    /// One iteration of every chain, as [`Backend::iterate`], with each pass timed
+    /// (`crate::timing`).
+    pub fn iterate_timed(&mut self, params: &RenderParams) -> Result<(PassTimes, Clock), RenderError> {
+        self.gpu.queue.write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(params));
+        let (c, n, r) = (self.candidates, self.chains, self.splat_records);
+        let [mutate, trace, connect, select, splat] = &self.passes;
+        let (seconds, clock) =
+            time_passes(&self.gpu, &[(mutate, c), (trace, c), (connect, c), (select, n), (splat, r)])?;
+        Ok(([seconds[0], seconds[1], seconds[2], seconds[3], seconds[4]], clock))
+    }
+}
+
 /// Index of each pass in [`GpuBackend::run`].
 pub const MUTATE: usize = 0;
 /// See [`MUTATE`].
@@ -222,5 +240,9 @@ impl Backend for GpuBackend {
 
     fn describe(&self) -> String {
         self.gpu.describe()
+    }
+
+    fn as_gpu(&mut self) -> Option<&mut GpuBackend> {
+        Some(self)
     }
 }

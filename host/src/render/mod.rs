@@ -238,6 +238,10 @@ pub trait Backend {
     fn chain_states(&mut self) -> Result<Vec<ChainState>, RenderError>;
     /// A description of the device.
     fn describe(&self) -> String;
+    /// The device backend, for what only it can do (per-pass timings, ray replay).
+    fn as_gpu(&mut self) -> Option<&mut gpu::GpuBackend> {
+        None
+    }
 }
 
 /// The parameters shared by every dispatch of a render.
@@ -381,6 +385,11 @@ impl<'a> Renderer<'a> {
         self.stats.steps += self.backend.drain(&mut self.image)?;
         self.pending = 0;
         Ok(())
+    }
+
+    /// The parameters of the next iteration.
+    pub fn next_params(&self) -> RenderParams {
+        RenderParams { iteration: self.stats.iterations as u32, ..self.base }
     }
 
     /// The statistics so far (steps as of the last drain).

@@ -1,0 +1,33 @@
+//! The `raycast` pass: binds params (for the candidate count C), the BVH, the replayed rays
+//! (`k + j·C`) and one answer word per candidate.
+
+use kernels::raycast::raycast;
+use shared::bvh::{BvhNode, Triangle};
+use shared::mmlt::RenderParams;
+use shared::rays::Ray;
+
+use super::Pass;
+use crate::gpu::{Gpu, GpuError};
+
+/// The GPU pass over `buffers` = [params, nodes, triangles, rays, answers].
+pub fn gpu(gpu: &Gpu, buffers: [&wgpu::Buffer; 5]) -> Result<Pass, GpuError> {
+    let [params, nodes, triangles, rays, answers] = buffers;
+    Pass::new(
+        gpu,
+        "raycast_cs",
+        &[(params, true), (nodes, true), (triangles, true), (rays, true), (answers, false)],
+    )
+}
+
+/// The same body on the CPU, over every candidate.
+pub fn cpu(
+    params: &RenderParams,
+    nodes: &[BvhNode],
+    triangles: &[Triangle],
+    rays: &[Ray],
+    answers: &mut [u32],
+) {
+    for k in 0..params.candidates as usize {
+        raycast(k, params, nodes, triangles, rays, answers);
+    }
+}

@@ -1,0 +1,209 @@
+//! The bench's ray-casting ceiling: the host's log of the rays a candidate casts is exactly the
+//! rays `trace` and `connect` cast (counted against the path they built, in a closed furnace
+//! where no ray can miss), the replay layout keeps each candidate's rays in order, the device
+//! replays them with the same answers as the host, and the passes are timed.
+
+mod common;
+
+use shared::mmlt::{vertex_slot, PathInfo, PathVertex, RenderParams, MODE_BOOTSTRAP};
+use shared::rays::{Ray, RAY_CLOSEST, RAY_NONE, RAY_OCCLUSION};
+use smlt::passes;
+use smlt::raycast::{log_candidates, replay, RayLog};
+use smlt::render::{self, Budget, Method, Settings};
+use smlt::scene::SceneData;
+use smlt::timing::{time_passes, Clock};
+
+/// Fresh (bootstrap) candidates of `scene`: their parameters, samples and depths.
+fn candidates(scene: &SceneData, count: u32, max_depth: u32) -> (RenderParams, Vec<f32>, Vec<u32>) {
+    let s = Settings {
+        width: 32,
+        height: 24,
+        max_depth,
+        seed: 7,
+        method: Method::Tree(1),
+        budget: Budget::MutationsPerPixel(1.0),
+        candidates: count,
+        bootstrap_samples: count,
+        mutation: Default::default(),
+    };
+    let params = RenderParams { mode: MODE_BOOTSTRAP, ..render::base_params(scene, &s) };
+    let c = params.candidates as usize;
+    let mut cand_u = vec![0.0; c * params.dims as usize];
+    let mut cand_depth = vec![0; c];
+    passes::mutate::cpu(&params, &[], &[], &mut cand_u, &mut cand_depth);
+    (params, cand_u, cand_depth)
+}
+
+/// Candidate k's rays, in order, from the replay layout.
+fn rays_of(log: &RayLog, k: usize) -> Vec<Ray> {
+    let c = log.candidates as usize;
+    log.rays.iter().skip(k).step_by(c).copied().take_while(|r| r.kind != RAY_NONE).collect()
+}
+
+/// In the furnace every ray hits: a camera subpath of t vertices casts t − 1 closest-hit rays,
+/// one for each vertex after the pinhole, each landing on that vertex's triangle; a light
+/// subpath of s vertices casts s − 1; the connection casts at most one occlusion ray, none for
+/// s = 0. The log holds exactly these, and its count is their sum.
+#[test]
+fn the_log_holds_the_rays_of_each_candidates_path() {
+    let scene = common::scenes::furnace(0.5, 0.5);
+    let max_depth = 6;
+    let (params, cand_u, cand_depth) = candidates(&scene, 700, max_depth);
+    let c = params.candidates as usize;
+    let log = log_candidates(&scene, &params, &cand_u, &cand_depth);
+    // The paths themselves, from the same body.
+    let mut vertices = vec![PathVertex::default(); c * shared::mmlt::vertex_slots(max_depth) as usize];
+    let mut paths = vec![PathInfo::default(); c];
+    passes::trace::cpu(&params, &cand_depth, &cand_u, scene.shared(), &mut vertices, &mut paths);
+    let vertex = |k: usize, side: u32, i: u32| vertices[k + vertex_slot(side, i, max_depth) as usize * c];
+    let (mut total, mut shadow) = (0u64, 0u64);
+    for (k, path) in paths.iter().enumerate() {
+        let rays = rays_of(&log, k);
+        total += rays.len() as u64;
+        let closest: Vec<&Ray> = rays.iter().filter(|r| r.kind == RAY_CLOSEST).collect();
+        let occlusion = rays.iter().filter(|r| r.kind == RAY_OCCLUSION).count();
+        assert_eq!(path.camera_vertices, path.t.max(1), "candidate {k}: no miss in a furnace");
+        let camera_rays = path.camera_vertices - 1;
+        let light_rays = path.light_vertices.saturating_sub(1);
+        assert_eq!(closest.len() as u32, camera_rays + light_rays, "candidate {k}: {path:?}");
+        assert!(occlusion <= 1 && (path.s > 0 || occlusion == 0), "candidate {k}: {path:?}");
+        shadow += occlusion as u64;
+        // The closest-hit rays, in order, find the camera subpath's vertices, then the light's.
+        let answers: Vec<u32> =
+            closest.iter().map(|r| shared::rays::cast(&scene.nodes, &scene.triangles, r)).collect();
+        let expected: Vec<u32> = (1..path.camera_vertices)
+            .map(|i| vertex(k, 0, i).triangle + 1)
+            .chain((1..path.light_vertices).map(|i| vertex(k, 1, i).triangle + 1))
+            .collect();
+        assert_eq!(answers, expected, "candidate {k}");
+        // The shadow ray, if any, is the last ray: connect runs after trace.
+        assert!(occlusion == 0 || rays.last().unwrap().kind == RAY_OCCLUSION);
+    }
+    assert_eq!(log.count, total);
+    assert!((log.per_candidate() - total as f64 / c as f64).abs() < 1e-12);
+    // A connection casts its ray unless it carries nothing: two points on one face of the cube
+    // (cosine 0), or, for t = 1, a light point outside the camera's view.
+    let surface = paths.iter().filter(|p| p.s > 0 && p.t >= 2).count() as u64;
+    let to_camera = paths.iter().filter(|p| p.s > 0 && p.t == 1).count() as u64;
+    println!("{c} candidates: {total} rays, {shadow} shadow rays for {surface} + {to_camera} connections");
+    assert!(shadow * 10 >= surface * 7, "most connections between surfaces cast their shadow ray");
+    assert!(
+        log.rays.len().is_multiple_of(c)
+            && log.rays.len() / c == (0..c).map(|k| rays_of(&log, k).len()).max().unwrap()
+    );
+}
+
+/// The device replays the default scene's logged rays with the same answers as the host (the
+/// same `raycast` body), timed with timestamp queries where the device has them.
+#[test]
+fn the_device_replays_the_rays_like_the_host() {
+    let Some(gpu) = common::gpu_or_skip("the_device_replays_the_rays_like_the_host") else {
+        return;
+    };
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell")
+        .expect("the default scene");
+    let (params, cand_u, cand_depth) = candidates(&scene, 3000, 8);
+    let log = log_candidates(&scene, &params, &cand_u, &cand_depth);
+    let replayed = replay(&gpu, &scene, &log, 2).expect("replay");
+    let mut host = vec![0u32; log.candidates as usize];
+    let p = RenderParams { candidates: log.candidates, ..Default::default() };
+    passes::raycast::cpu(&p, &scene.nodes, &scene.triangles, &log.rays, &mut host);
+    let differ = host.iter().zip(&replayed.answers).filter(|(a, b)| a != b).count();
+    println!(
+        "{} rays ({:.2} per candidate) in {:.3} ms ({} clock): {:.2} M rays/s; {differ} of {} answers differ",
+        log.count,
+        log.per_candidate(),
+        replayed.seconds * 1e3,
+        replayed.clock,
+        replayed.rays_per_s(&log) / 1e6,
+        host.len()
+    );
+    // A grazing ray may flip on a 1-ulp difference in the device's arithmetic.
+    assert!(differ <= host.len() / 200, "{differ} answers differ");
+    assert!(host.iter().any(|&a| a > 0));
+    assert!(replayed.seconds > 0.0 && replayed.rays_per_s(&log).is_finite());
+    if gpu.features.contains(wgpu::Features::TIMESTAMP_QUERY) {
+        assert_eq!(replayed.clock, Clock::Timestamp);
+    }
+}
+
+/// Per-pass timing: a pass with more work takes longer on the device's own clock, and every
+/// pass gets a time, also one with nothing to run.
+#[test]
+fn passes_are_timed_on_the_device() {
+    let Some(gpu) = common::gpu_or_skip("passes_are_timed_on_the_device") else {
+        return;
+    };
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell")
+        .expect("the default scene");
+    let (params, cand_u, cand_depth) = candidates(&scene, 4096, 8);
+    let log = log_candidates(&scene, &params, &cand_u, &cand_depth);
+    let p = gpu.storage_from("params", &[RenderParams { candidates: log.candidates, ..Default::default() }]);
+    let nodes = gpu.storage_from("nodes", &scene.nodes);
+    let tris = gpu.storage_from("triangles", &scene.triangles);
+    let rays = gpu.storage_from("rays", &log.rays);
+    let answers = gpu.storage_zeroed::<u32>("answers", log.candidates as usize);
+    let pass = passes::raycast::gpu(&gpu, [&p, &nodes, &tris, &rays, &answers]).unwrap();
+    time_passes(&gpu, &[(&pass, 64)]).unwrap(); // warm-up
+    let (seconds, clock) = time_passes(&gpu, &[(&pass, 64), (&pass, log.candidates), (&pass, 0)]).unwrap();
+    println!("{clock} clock: {seconds:?}");
+    assert_eq!(seconds.len(), 3);
+    assert!(seconds.iter().all(|s| s.is_finite() && *s >= 0.0));
+    assert!(seconds[1] > seconds[0], "64 candidates' rays took longer than {}: {seconds:?}", log.candidates);
+}
+
+/// A path reads only the dimensions that `dimensions_used` names for its depth (which lets
+/// `mutate` skip the others): giving every other dimension new values changes none of the
+/// rays a candidate casts nor its contribution.
+#[test]
+fn a_path_reads_only_the_dimensions_of_its_depth() {
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell")
+        .expect("the default scene");
+    let max_depth = 7;
+    let (params, cand_u, cand_depth) = candidates(&scene, 2000, max_depth);
+    let c = params.candidates as usize;
+    let mut other = cand_u.clone();
+    let mut changed = 0;
+    for k in 0..c {
+        for dim in 0..params.dims {
+            if !shared::mmlt::dimensions_used(dim, 1, cand_depth[k], max_depth) {
+                let i = k + dim as usize * c;
+                other[i] = (other[i] + 0.37).fract();
+                changed += 1;
+            }
+        }
+    }
+    let run = |u: &[f32]| {
+        let log = log_candidates(&scene, &params, u, &cand_depth);
+        let mut vertices = vec![PathVertex::default(); c * shared::mmlt::vertex_slots(max_depth) as usize];
+        let mut paths = vec![PathInfo::default(); c];
+        let mut contributions = vec![glam::Vec4::ZERO; c];
+        passes::trace::cpu(&params, &cand_depth, u, scene.shared(), &mut vertices, &mut paths);
+        passes::connect::cpu(&params, u, scene.shared(), &vertices, &paths, &mut contributions);
+        (log.rays, contributions)
+    };
+    let (rays, contributions) = run(&cand_u);
+    let (rays_other, contributions_other) = run(&other);
+    println!("{changed} of {} samples changed", cand_u.len());
+    assert!(changed > cand_u.len() / 4);
+    assert!(rays == rays_other, "the rays changed");
+    assert!(contributions
+        .iter()
+        .zip(&contributions_other)
+        .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
+    // And the claim is tight: the deepest bounce dimensions are read.
+    assert!(shared::mmlt::dimensions_used(
+        shared::mmlt::bounce_dimension(0, 2, max_depth) + 1,
+        1,
+        3,
+        max_depth
+    ));
+    assert!(shared::mmlt::dimensions_used(
+        shared::mmlt::bounce_dimension(1, 2, max_depth) + 1,
+        1,
+        3,
+        max_depth
+    ));
+    assert!(!shared::mmlt::dimensions_used(shared::mmlt::bounce_dimension(0, 3, max_depth), 1, 3, max_depth));
+    assert!(!shared::mmlt::dimensions_used(shared::mmlt::bounce_dimension(1, 3, max_depth), 1, 3, max_depth));
+}
