@@ -164,9 +164,9 @@ fn a_path_reads_only_the_dimensions_of_its_depth() {
     let c = params.candidates as usize;
     let mut other = cand_u.clone();
     let mut changed = 0;
-    for k in 0..c {
+    for (k, &depth) in cand_depth.iter().enumerate() {
         for dim in 0..params.dims {
-            if !shared::mmlt::dimensions_used(dim, 1, cand_depth[k], max_depth) {
+            if !shared::mmlt::dimensions_used(dim, 1, depth, max_depth) {
                 let i = k + dim as usize * c;
                 other[i] = (other[i] + 0.37).fract();
                 changed += 1;
