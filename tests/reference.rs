@@ -42,7 +42,7 @@ fn mean_and_variance(runs: &[Vec<f64>], b: usize) -> (f64, f64) {
 fn the_reference_furnace_is_analytic() {
     let (rho, k) = (0.8, 5);
     let scene = furnace(1.0, rho);
-    let rgb = render_reference(&scene, &settings("furnace", 16, k, 512, 1), None, 16, |_| {}).unwrap();
+    let rgb = render_reference(&scene, &settings("furnace", 16, k, 512, 1), None, 16, |_| {}).unwrap().rgb;
     let expected = furnace_radiance(1.0, rho, k);
     let mean = rgb.iter().map(|v| *v as f64).sum::<f64>() / rgb.len() as f64;
     println!("reference furnace: mean {mean:.5}, expected {expected:.5}");
@@ -59,8 +59,8 @@ fn the_device_reference_equals_the_cpu_reference() {
     };
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").unwrap();
     let s = settings("cornell", 16, 5, 32, 4);
-    let cpu = render_reference(&scene, &s, None, 16, |_| {}).unwrap();
-    let dev = render_reference(&scene, &s, Some(&gpu), 16, |_| {}).unwrap();
+    let cpu = render_reference(&scene, &s, None, 16, |_| {}).unwrap().rgb;
+    let dev = render_reference(&scene, &s, Some(&gpu), 16, |_| {}).unwrap().rgb;
     let differ = cpu
         .iter()
         .zip(&dev)
@@ -68,6 +68,24 @@ fn the_device_reference_equals_the_cpu_reference() {
         .count();
     println!("reference pixels differing between device and CPU: {differ} of {}", cpu.len());
     assert!(differ <= cpu.len() / 200, "{differ} values differ");
+}
+
+/// The reference's estimate of its own noise (from the spread of its passes) predicts the RMSE
+/// between two independent references: √2 times the noise of one.
+#[test]
+fn the_reference_knows_its_own_noise() {
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").unwrap();
+    let a = render_reference(&scene, &settings("cornell", 24, 5, 96, 1), None, 6, |_| {}).unwrap();
+    let b = render_reference(&scene, &settings("cornell", 24, 5, 96, 2), None, 6, |_| {}).unwrap();
+    let e = smlt::metrics::errors(&a.rgb, &b.rgb);
+    let predicted = (a.noise_rmse.powi(2) + b.noise_rmse.powi(2)).sqrt();
+    println!("RMSE between references {:.5}, predicted from their noise {predicted:.5}", e.rmse);
+    assert!(a.noise_rmse > 0.0 && b.noise_rmse > 0.0);
+    assert!((e.rmse / predicted - 1.0).abs() < 0.2, "{} vs {predicted}", e.rmse);
+    // Four times the samples: half the noise.
+    let c = render_reference(&scene, &settings("cornell", 24, 5, 384, 3), None, 6, |_| {}).unwrap();
+    let ratio = c.noise_rmse / a.noise_rmse;
+    assert!((ratio - 0.5).abs() < 0.1, "noise ratio {ratio} for 4× the samples");
 }
 
 /// MMLT (naive and s3) and the independent path tracer agree on the default scene: every 4×4
@@ -81,7 +99,8 @@ fn the_reference_and_mmlt_agree_on_the_default_scene() {
         .map(|seed| {
             block_means(
                 &render_reference(&scene, &settings("cornell", size, k, 256, 10 + seed), None, 16, |_| {})
-                    .unwrap(),
+                    .unwrap()
+                    .rgb,
                 size,
             )
         })

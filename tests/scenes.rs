@@ -57,7 +57,7 @@ fn every_view_is_lit() {
             spp: 32,
             seed: 1,
         };
-        let rgb = render_reference(&scene, &s, None, 16, |_| {}).unwrap();
+        let rgb = render_reference(&scene, &s, None, 16, |_| {}).unwrap().rgb;
         let mean = rgb.iter().map(|v| *v as f64).sum::<f64>() / rgb.len() as f64;
         println!("{name} view {view}: mean {mean:.4}");
         assert!(mean > 1e-3, "{name} view {view} is dark: {mean}");

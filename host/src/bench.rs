@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use crate::gpu::Gpu;
 use crate::metrics::{errors, heat_map, Errors};
 use crate::profile::{profile, Profile};
-use crate::reference::{cached, content_hash, render_reference, sidecar, ReferenceSettings};
+use crate::reference::{cached, content_hash, render_reference, write_sidecar, ReferenceSettings, Sidecar};
 use crate::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Settings};
 use crate::scene::SceneData;
 use shared::mmlt::RenderParams;
@@ -174,6 +174,7 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
     std::fs::create_dir_all(&b.out)?;
     let mut rows = Vec::new();
     let mut profiles: Vec<Profile> = Vec::new();
+    let mut noises: Vec<(String, u32, Option<f64>)> = Vec::new();
     for (name, view) in &b.scenes {
         let (label, bytes) = scene_text(name, b.tessellation)?;
         let mut scene = SceneData::from_slice(&bytes, &label)?;
@@ -190,12 +191,20 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
             spp: b.reference_spp,
             seed: b.seed.wrapping_add(1000),
         };
-        if !cached(&reference_path, &rs) {
-            let device = gpu.filter(|g| g.info.device_type != wgpu::DeviceType::Cpu);
-            let rgb = render_reference(&scene, &rs, device, 16, |_| {})?;
-            crate::output::write_images(&reference_path, b.width, b.height, &rgb)?;
-            std::fs::write(sidecar(&reference_path), serde_json::to_string_pretty(&rs)?)?;
-        }
+        let noise = match cached(&reference_path, &rs) {
+            Some(found) => found.noise_rmse,
+            None => {
+                let device = gpu.filter(|g| g.info.device_type != wgpu::DeviceType::Cpu);
+                let r = render_reference(&scene, &rs, device, 16, |_| {})?;
+                crate::output::write_images(&reference_path, b.width, b.height, &r.rgb)?;
+                write_sidecar(
+                    &reference_path,
+                    &Sidecar { settings: rs.clone(), noise_rmse: Some(r.noise_rmse) },
+                )?;
+                Some(r.noise_rmse)
+            }
+        };
+        noises.push((label.clone(), *view, noise));
         let (_, _, reference) = crate::output::read_exr(&reference_path)?;
         // One backend and one renderer per method, all on the same device.
         let candidates = b.candidates.unwrap_or(match gpu {
@@ -293,6 +302,7 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
         }),
     )?;
     let mut tables = tables(b, &rows);
+    tables.push_str(&reference_table(b, &rows, &noises));
     if profiles.is_empty() {
         log("no per-pass timings or ray ceiling: they need a Vulkan device (--device gpu)");
     } else {
@@ -357,5 +367,33 @@ pub fn tables(b: &BenchSettings, rows: &[Row]) -> String {
         }
         out.push('\n');
     }
+    out
+}
+
+/// The references' own noise beside the errors measured against them: each scene view's
+/// estimated reference RMSE and the smallest final RMSE of any method.
+pub fn reference_table(b: &BenchSettings, rows: &[Row], noises: &[(String, u32, Option<f64>)]) -> String {
+    let mut out = format!(
+        "### References ({} spp; noise = estimated RMSE of the reference itself)\n\n\
+         | scene view | reference noise | smallest method RMSE after {} s | ratio |\n|---|---|---|---|\n",
+        b.reference_spp, b.seconds
+    );
+    for (scene, view, noise) in noises {
+        let last_time = rows
+            .iter()
+            .filter(|r| &r.scene == scene && r.view == *view)
+            .map(|r| r.seconds)
+            .fold(0.0, f64::max);
+        let best = rows
+            .iter()
+            .filter(|r| &r.scene == scene && r.view == *view && r.seconds >= last_time * 0.5)
+            .map(|r| r.errors.rmse)
+            .fold(f64::INFINITY, f64::min);
+        let _ = match noise {
+            Some(n) => writeln!(out, "| {scene} v{view} | {n:.4} | {best:.4} | {:.2} |", n / best),
+            None => writeln!(out, "| {scene} v{view} | — | {best:.4} | — |"),
+        };
+    }
+    out.push('\n');
     out
 }

@@ -386,7 +386,9 @@ fn render_command(a: RenderArgs) -> anyhow::Result<()> {
 }
 
 fn reference_command(a: ReferenceArgs) -> anyhow::Result<()> {
-    use smlt::reference::{cached, content_hash, render_reference, sidecar, ReferenceSettings};
+    use smlt::reference::{
+        cached, content_hash, render_reference, sidecar, write_sidecar, ReferenceSettings, Sidecar,
+    };
     smlt::output::check_writable(&a.out)?;
     let (mut scene, bytes) = match &a.scene {
         Some(path) => {
@@ -408,7 +410,7 @@ fn reference_command(a: ReferenceArgs) -> anyhow::Result<()> {
         spp: a.spp,
         seed: a.seed,
     };
-    if cached(&a.out, &settings) {
+    if cached(&a.out, &settings).is_some() {
         println!("cached               {} (same settings in {})", a.out.display(), sidecar(&a.out).display());
         return Ok(());
     }
@@ -428,18 +430,21 @@ fn reference_command(a: ReferenceArgs) -> anyhow::Result<()> {
     let bar = ProgressBar::new(1000);
     let start = std::time::Instant::now();
     let per_pass = if gpu.is_some() { 16 } else { 4 };
-    let rgb = render_reference(&scene, &settings, gpu.as_ref(), per_pass, |f| {
+    let reference = render_reference(&scene, &settings, gpu.as_ref(), per_pass, |f| {
         bar.set_position((f * 1000.0) as u64)
     })?;
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
-    smlt::output::write_images(&a.out, a.width, a.height, &rgb)?;
+    smlt::output::write_images(&a.out, a.width, a.height, &reference.rgb)?;
+    write_sidecar(&a.out, &Sidecar { settings, noise_rmse: Some(reference.noise_rmse) })?;
     let json = sidecar(&a.out);
-    let tmp = json.with_extension("json.tmp");
-    std::fs::write(&tmp, serde_json::to_string_pretty(&settings)?)?;
-    std::fs::rename(&tmp, &json)?;
     let paths = a.width as f64 * a.height as f64 * a.spp as f64;
     println!("time                 {seconds:.2} s ({:.3} M paths/s)", paths / seconds / 1e6);
+    println!(
+        "noise                RMSE {:.3e} (estimated from {} independent passes)",
+        reference.noise_rmse,
+        a.spp.div_ceil(per_pass)
+    );
     println!(
         "wrote                {}, {} and {}",
         a.out.display(),

@@ -1,11 +1,13 @@
 //! `smlt reference`: the ground truth of a scene by the independent path tracer
 //! (`shared::path_tracer`), rendered long on the device or the CPU, and cached: the EXR is
 //! written with a sidecar `<out>.json` holding its settings and the scene's hash, and a later
-//! run with the same settings reuses it.
+//! run with the same settings reuses it. The sidecar also holds the reference's own noise,
+//! estimated from the spread of its independent passes, so that the bench can show that the
+//! errors it compares are well above it.
 
 use std::path::{Path, PathBuf};
 
-use shared::mmlt::{RenderParams, Scene};
+use shared::mmlt::RenderParams;
 
 use crate::gpu::Gpu;
 use crate::passes;
@@ -48,23 +50,53 @@ pub fn sidecar(out: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
-/// Whether `out` already holds a reference with exactly these settings.
-pub fn cached(out: &Path, settings: &ReferenceSettings) -> bool {
-    let Ok(text) = std::fs::read_to_string(sidecar(out)) else {
-        return false;
-    };
-    out.exists() && serde_json::from_str::<ReferenceSettings>(&text).ok().as_ref() == Some(settings)
+/// What the sidecar holds: the settings, and the reference's estimated noise.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Sidecar {
+    /// The settings that define the image.
+    #[serde(flatten)]
+    pub settings: ReferenceSettings,
+    /// The reference's own RMSE against the exact image, estimated (absent in older sidecars).
+    #[serde(default)]
+    pub noise_rmse: Option<f64>,
+}
+
+/// The sidecar of `out` when `out` already holds a reference with exactly these settings.
+pub fn cached(out: &Path, settings: &ReferenceSettings) -> Option<Sidecar> {
+    let text = std::fs::read_to_string(sidecar(out)).ok()?;
+    let found: Sidecar = serde_json::from_str(&text).ok()?;
+    (out.exists() && found.settings == *settings).then_some(found)
+}
+
+/// Writes the sidecar of `out` (through a temporary file, so that a half-written one is never
+/// taken for a cache entry).
+pub fn write_sidecar(out: &Path, sidecar_data: &Sidecar) -> anyhow::Result<()> {
+    let json = sidecar(out);
+    let tmp = json.with_extension("json.tmp");
+    std::fs::write(&tmp, serde_json::to_string_pretty(sidecar_data)?)?;
+    std::fs::rename(&tmp, &json)?;
+    Ok(())
+}
+
+/// A rendered reference.
+#[derive(Clone, Debug)]
+pub struct Reference {
+    /// Linear rgb.
+    pub rgb: Vec<f32>,
+    /// Its estimated RMSE against the exact image: the standard error of each pixel's mean from
+    /// the spread of the independent passes' means, √(Σ(yᵢ − ȳ)² / (P(P − 1))), in root mean
+    /// square over pixels and channels (NaN with a single pass).
+    pub noise_rmse: f64,
 }
 
 /// Renders the reference: `spp` samples per pixel in passes of `per_pass`, on `gpu` or the CPU.
-/// Returns linear rgb.
 pub fn render_reference(
     scene: &SceneData,
     s: &ReferenceSettings,
     gpu: Option<&Gpu>,
     per_pass: u32,
     mut progress: impl FnMut(f64),
-) -> Result<Vec<f32>, RenderError> {
+) -> Result<Reference, RenderError> {
     let settings = Settings {
         width: s.width,
         height: s.height,
@@ -80,6 +112,18 @@ pub fn render_reference(
     let pixels = (s.width * s.height) as usize;
     let passes_total = s.spp.div_ceil(per_pass);
     let mut sum = vec![0.0f64; pixels * 3];
+    // Σ of each pass's per-pixel mean, and of its square, for the noise estimate.
+    let mut pass_means = vec![0.0f64; pixels * 3];
+    let mut pass_squares = vec![0.0f64; pixels * 3];
+    let mut add_pass = |part: &[f32], samples: u32| {
+        for i in 0..part.len() {
+            let v = part[i] as f64;
+            sum[i] += v;
+            let y = v / samples as f64;
+            pass_means[i] += y;
+            pass_squares[i] += y * y;
+        }
+    };
     match gpu {
         Some(gpu) => {
             let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
@@ -106,9 +150,7 @@ pub fn render_reference(
                 pass.encode(gpu, &mut encoder, pixels as u32);
                 gpu.queue.submit([encoder.finish()]);
                 let part: Vec<f32> = gpu.read(&image, pixels * 3)?;
-                for (acc, v) in sum.iter_mut().zip(&part) {
-                    *acc += *v as f64;
-                }
+                add_pass(&part, p.candidates);
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 encoder.clear_buffer(&image, 0, None);
                 gpu.queue.submit([encoder.finish()]);
@@ -116,23 +158,26 @@ pub fn render_reference(
             }
         }
         None => {
-            let shared_scene = Scene {
-                nodes: &scene.nodes,
-                triangles: &scene.triangles,
-                materials: &scene.materials,
-                lights: &scene.lights,
-            };
+            let shared_scene = scene.shared();
             let mut image = vec![0.0f32; pixels * 3];
             for i in 0..passes_total {
                 let p = RenderParams { iteration: i, candidates: per_pass.min(s.spp - i * per_pass), ..base };
                 image.iter_mut().for_each(|v| *v = 0.0);
                 passes::reference::cpu(&p, shared_scene, &mut image);
-                for (acc, v) in sum.iter_mut().zip(&image) {
-                    *acc += *v as f64;
-                }
+                add_pass(&image, p.candidates);
                 progress((i + 1) as f64 / passes_total as f64);
             }
         }
     }
-    Ok(sum.iter().map(|v| (v / s.spp as f64) as f32).collect())
+    let passes = passes_total as f64;
+    let variance: f64 = pass_means
+        .iter()
+        .zip(&pass_squares)
+        .map(|(m, q)| ((q - m * m / passes) / (passes * (passes - 1.0))).max(0.0))
+        .sum::<f64>()
+        / (pixels * 3).max(1) as f64;
+    Ok(Reference {
+        rgb: sum.iter().map(|v| (v / s.spp as f64) as f32).collect(),
+        noise_rmse: variance.sqrt(),
+    })
 }
