@@ -43,6 +43,8 @@ pub struct Profile {
     pub bare_rays_per_s: f64,
     /// Candidates/s measured in the equal-time run.
     pub mutations_per_s: f64,
+    /// MiB of the render's device buffers (`render::gpu::device_bytes`).
+    pub device_mib: f64,
 }
 
 impl Profile {
@@ -70,7 +72,7 @@ impl Profile {
     pub fn csv(&self) -> String {
         let [m, t, c, s, p] = self.pass_ms;
         format!(
-            "{},{},{},{},{},{m:.4},{t:.4},{c:.4},{s:.4},{p:.4},{:.4},{:.1},{:.1},{:.1},{:.4}",
+            "{},{},{},{},{},{m:.4},{t:.4},{c:.4},{s:.4},{p:.4},{:.4},{:.1},{:.1},{:.1},{:.4},{:.2}",
             self.scene,
             self.view,
             self.method,
@@ -80,7 +82,8 @@ impl Profile {
             self.bare_rays_per_s,
             self.ceiling_mutations_per_s(),
             self.mutations_per_s,
-            self.ceiling_fraction()
+            self.ceiling_fraction(),
+            self.device_mib
         )
     }
 }
@@ -88,7 +91,7 @@ impl Profile {
 /// The CSV header of `passes.csv`.
 pub const CSV_HEADER: &str = "scene,view,method,candidates,clock,mutate_ms,trace_ms,connect_ms,select_ms,\
                               splat_ms,rays_per_candidate,bare_rays_per_s,ceiling_mutations_per_s,\
-                              mutations_per_s,ceiling_fraction";
+                              mutations_per_s,ceiling_fraction,device_mib";
 
 /// Profiles `method`'s render of `scene` (named `label`, view `view`) on `backend` from
 /// `params` (the next iteration's), whose equal-time run measured `mutations_per_s`: times
@@ -128,6 +131,7 @@ pub fn profile(
         rays_per_candidate: log.per_candidate(),
         bare_rays_per_s: replayed.rays_per_s(&log),
         mutations_per_s,
+        device_mib: crate::render::gpu::device_bytes(scene, &last) as f64 / 1048576.0,
     })
 }
 
@@ -148,14 +152,14 @@ pub fn tables(profiles: &[Profile]) -> String {
             out,
             "### Inside an iteration: {scene} v{view} (device ms per iteration, {clock} clock)\n\n\
              | method | candidates | mutate | trace | connect | select | splat | total | trace+connect ns/candidate \
-             | rays/candidate | bare M rays/s | ceiling M mut/s | measured M mut/s | of ceiling |\n\
-             |---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+             | rays/candidate | bare M rays/s | ceiling M mut/s | measured M mut/s | of ceiling | device MiB |\n\
+             |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
         );
         for p in rows {
             let [m, t, c, s, sp] = p.pass_ms;
             let _ = writeln!(
                 out,
-                "| {} | {} | {m:.2} | {t:.2} | {c:.2} | {s:.2} | {sp:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2} | {:.2} | {:.0} % |",
+                "| {} | {} | {m:.2} | {t:.2} | {c:.2} | {s:.2} | {sp:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2} | {:.2} | {:.0} % | {:.1} |",
                 p.method,
                 p.candidates,
                 p.iteration_ms(),
@@ -164,7 +168,8 @@ pub fn tables(profiles: &[Profile]) -> String {
                 p.bare_rays_per_s / 1e6,
                 p.ceiling_mutations_per_s() / 1e6,
                 p.mutations_per_s / 1e6,
-                100.0 * p.ceiling_fraction()
+                100.0 * p.ceiling_fraction(),
+                p.device_mib
             );
         }
         out.push('\n');
