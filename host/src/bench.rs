@@ -271,10 +271,7 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
         for (i, backend) in backends.iter_mut().enumerate() {
             let method = b.methods[i].to_string();
             let Some(device) = backend.as_gpu() else { continue };
-            let measured = rows
-                .iter()
-                .rfind(|r| r.scene == label && r.view == *view && r.method == method)
-                .map_or(0.0, |r| r.mutations_per_s);
+            let measured = final_row(&rows, &label, *view, &method).map_or(0.0, |r| r.mutations_per_s);
             let p = profile(device, &scene, (&label, *view, &method), next[i], measured)?;
             log(&format!("profile {}", p.csv()));
             profiles.push(p);
@@ -321,12 +318,15 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
     Ok(rows)
 }
 
+/// The last measurement of `method` on a scene view.
+fn final_row<'a>(rows: &'a [Row], scene: &str, view: u32, method: &str) -> Option<&'a Row> {
+    rows.iter().rfind(|r| r.scene == scene && r.view == view && r.method == method)
+}
+
 /// The seed's Table 3 (million mutations/s) and Table 4 (PSNR after the full time), with
 /// RMSE, as Markdown: methods down, scene views across, values at the last measurement.
 pub fn tables(b: &BenchSettings, rows: &[Row]) -> String {
-    let final_row = |scene: &str, view: u32, method: &str| {
-        rows.iter().rfind(|r| r.scene == scene && r.view == view && r.method == method)
-    };
+    let final_row = |scene: &str, view: u32, method: &str| final_row(rows, scene, view, method);
     let columns: Vec<(String, u32)> = {
         let mut c: Vec<(String, u32)> = Vec::new();
         for r in rows {
@@ -379,14 +379,10 @@ pub fn reference_table(b: &BenchSettings, rows: &[Row], noises: &[(String, u32, 
         b.reference_spp, b.seconds
     );
     for (scene, view, noise) in noises {
-        let last_time = rows
+        let best = b
+            .methods
             .iter()
-            .filter(|r| &r.scene == scene && r.view == *view)
-            .map(|r| r.seconds)
-            .fold(0.0, f64::max);
-        let best = rows
-            .iter()
-            .filter(|r| &r.scene == scene && r.view == *view && r.seconds >= last_time * 0.5)
+            .filter_map(|m| final_row(rows, scene, *view, &m.to_string()))
             .map(|r| r.errors.rmse)
             .fold(f64::INFINITY, f64::min);
         let _ = match noise {

@@ -177,11 +177,15 @@ impl GpuBackend {
     /// (`crate::timing`).
     pub fn iterate_timed(&mut self, params: &RenderParams) -> Result<(PassTimes, Clock), RenderError> {
         self.gpu.queue.write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(params));
-        let (c, n, r) = (self.candidates, self.chains, self.splat_records);
-        let [mutate, trace, connect, select, splat] = &self.passes;
-        let (seconds, clock) =
-            time_passes(&self.gpu, &[(mutate, c), (trace, c), (connect, c), (select, n), (splat, r)])?;
+        let timed = self.iteration().map(|(pass, threads)| (&self.passes[pass], threads));
+        let (seconds, clock) = time_passes(&self.gpu, &timed)?;
         Ok(([seconds[0], seconds[1], seconds[2], seconds[3], seconds[4]], clock))
+    }
+
+    /// The passes of one iteration, in order, with their invocation counts.
+    fn iteration(&self) -> [(usize, u32); 5] {
+        let (c, n, r) = (self.candidates, self.chains, self.splat_records);
+        [(MUTATE, c), (TRACE, c), (CONNECT, c), (SELECT, n), (SPLAT, r)]
     }
 }
 
@@ -211,8 +215,7 @@ impl Backend for GpuBackend {
     }
 
     fn iterate(&mut self, params: &RenderParams) -> Result<(), RenderError> {
-        let (c, n, r) = (self.candidates, self.chains, self.splat_records);
-        self.run(params, &[(MUTATE, c), (TRACE, c), (CONNECT, c), (SELECT, n), (SPLAT, r)])
+        self.run(params, &self.iteration())
     }
 
     fn drain(&mut self, image: &mut [f64]) -> Result<f64, RenderError> {

@@ -368,7 +368,7 @@ impl<'a> Renderer<'a> {
     /// One iteration of every chain; its wall time is added to the render time.
     pub fn iterate(&mut self) -> Result<(), RenderError> {
         let start = Instant::now();
-        let params = RenderParams { iteration: self.stats.iterations as u32, ..self.base };
+        let params = self.next_params();
         self.backend.iterate(&params)?;
         self.stats.iterations += 1;
         self.stats.candidates += self.base.candidates as u64;
