@@ -63,7 +63,7 @@ fn renders_the_default_scene_on_the_device() {
         return;
     }
     let dir = temp_dir("gpu");
-    check_render(&dir, &["--candidates", "1024", "--method", "s2"]);
+    check_render(&dir, &["--device", "gpu", "--candidates", "1024", "--method", "s2"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -77,11 +77,23 @@ fn bad_input_gets_one_line_and_no_output() {
     std::fs::write(&garbage, [0x13u8, 0x57, 0x9b, 0xdf, 1, 2, 3, 4, 5, 6, 7, 8]).unwrap();
     let truncated = dir.join("truncated.gltf");
     std::fs::write(&truncated, "{\"asset\": {\"version\": \"2.0\"}, \"scenes\": [").unwrap();
+    // Node 0's child is node 1 and node 1's child is node 0: a walk of the graph never ends.
+    let cycle = dir.join("cycle.gltf");
+    std::fs::write(
+        &cycle,
+        r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+            "nodes": [{"children": [1]}, {"children": [0]}]}"#,
+    )
+    .unwrap();
     let cases: Vec<(Vec<String>, &str)> = vec![
         (vec!["render".into(), dir.join("missing.gltf").display().to_string()], "missing.gltf"),
         (vec!["render".into(), dir.display().to_string()], "is a directory"),
         (vec!["render".into(), garbage.display().to_string()], "garbage.glb"),
         (vec!["render".into(), truncated.display().to_string()], "truncated.gltf"),
+        (
+            vec!["render".into(), cycle.display().to_string()],
+            "node 0 is reached twice (again as a child of node 1)",
+        ),
         (vec!["render".into(), "--method".into(), "s9".into()], "s9"),
         (vec!["render".into(), "--method".into(), "s0".into()], "s0"),
         (vec!["render".into(), "--method".into(), "bogus".into()], "bogus"),
@@ -139,6 +151,8 @@ fn odd_sizes_and_chain_counts_on_the_device() {
             "4",
             "--bootstrap",
             "2048",
+            "--device",
+            "gpu",
             "--out",
             exr.to_str().unwrap(),
         ];
@@ -160,8 +174,8 @@ fn device_limits_and_a_missing_adapter_are_one_line_errors() {
     let out_s = out.to_str().unwrap();
     if common::gpu_or_skip("device_limits_and_a_missing_adapter_are_one_line_errors").is_some() {
         for args in [
-            vec!["render", "--width", "16384", "--height", "16384", "--out", out_s],
-            vec!["render", "--candidates", "16777216", "--out", out_s],
+            vec!["render", "--device", "gpu", "--width", "16384", "--height", "16384", "--out", out_s],
+            vec!["render", "--device", "gpu", "--candidates", "16777216", "--out", out_s],
         ] {
             let (ok, _, stderr) = smlt(&args);
             assert!(!ok && stderr.contains("max_storage_buffer_binding_size"), "{args:?}: {stderr}");
@@ -171,7 +185,7 @@ fn device_limits_and_a_missing_adapter_are_one_line_errors() {
     }
     let missing = dir.join("no-such-icd.json");
     let output = Command::new(env!("CARGO_BIN_EXE_smlt"))
-        .args(["render", "--out", out_s])
+        .args(["render", "--device", "gpu", "--out", out_s])
         .env("VK_DRIVER_FILES", &missing)
         .env("VK_ICD_FILENAMES", &missing)
         .output()
@@ -233,7 +247,12 @@ fn ctrl_c_writes_the_image_so_far() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_secs(3));
+    // Interrupt once the first checkpoint is on disk (the render is under way), at most 60 s.
+    let waited = std::time::Instant::now();
+    while !out.exists() && waited.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    assert!(out.exists(), "no checkpoint within 60 s");
     let status = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
     assert!(status.success());
     let output = child.wait_with_output().unwrap();
@@ -341,7 +360,7 @@ fn the_bench_writes_a_well_formed_csv() {
         let passes = std::fs::read_to_string(dir.join("passes.csv")).unwrap();
         let mut lines = passes.lines();
         let header = lines.next().unwrap();
-        assert_eq!(header, smlt::profile::CSV_HEADER);
+        assert_eq!(header, smlt::profile::csv_header());
         let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
         assert_eq!(rows.len(), 6, "{passes}");
         for r in &rows {
@@ -371,18 +390,128 @@ fn the_bench_writes_a_well_formed_csv() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Output into a closed pipe (`smlt … | head -0`) ends the process quietly, never in a panic.
+/// Output into a closed pipe (`smlt … | head -0`) ends the process quietly, as other
+/// command-line tools do (success, or the SIGPIPE status 141), never in a panic (101).
 #[test]
 fn a_closed_stdout_pipe_is_not_a_panic() {
-    let output = Command::new("sh")
+    let smlt = env!("CARGO_BIN_EXE_smlt");
+    let output = Command::new("bash")
         .arg("-c")
         .arg(format!(
-            "{} scene --help | head -c 0; {} --help | head -c 1",
-            env!("CARGO_BIN_EXE_smlt"),
-            env!("CARGO_BIN_EXE_smlt")
+            "{smlt} scene --help | head -c 0; a=${{PIPESTATUS[0]}}; {smlt} --help | head -c 1 >/dev/null; echo \"$a ${{PIPESTATUS[0]}}\""
         ))
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let statuses: Vec<&str> = stdout.split_whitespace().collect();
+    assert_eq!(statuses.len(), 2, "{stdout}");
+    for s in statuses {
+        assert!(s == "0" || s == "141", "smlt exited with {s} into a closed pipe: {stderr}");
+    }
+}
+
+/// `--device auto` (the default) takes a GPU when the machine has one, and otherwise the CPU
+/// backend on every core, and the first line of the render says which and why; with no Vulkan
+/// driver at all it still renders, on the CPU.
+#[test]
+fn the_default_device_is_the_fastest_one() {
+    let dir = temp_dir("auto");
+    let out = dir.join("x.exr");
+    let out_s = out.to_str().unwrap();
+    let args =
+        ["render", "--width", "8", "--height", "8", "--mutations-per-pixel", "4", "--bootstrap", "1024"];
+    let has_gpu = smlt::gpu::adapters().iter().any(|a| smlt::gpu::is_real_gpu(&a.get_info()));
+    let (ok, stdout, stderr) = smlt(&[&args[..], &["--out", out_s]].concat());
+    assert!(ok, "{stderr}");
+    let first = stdout.lines().next().unwrap_or_default();
+    assert!(first.starts_with("device: ") && first.contains("--device auto"), "{first}");
+    assert_eq!(first.starts_with("device: CPU"), !has_gpu, "{first}");
+    let missing = dir.join("no-such-icd.json");
+    let output = Command::new(env!("CARGO_BIN_EXE_smlt"))
+        .args(args)
+        .args(["--out", out_s])
+        .env("VK_DRIVER_FILES", &missing)
+        .env("VK_ICD_FILENAMES", &missing)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.starts_with("device: CPU") && stdout.contains("no Vulkan adapter"), "{stdout}");
+    let (ok, stdout, _) = smlt(&["devices"]);
+    assert!(ok && stdout.contains("--device auto chooses"), "{stdout}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `render --shard K/N` writes part files that `smlt merge` combines into the image the same
+/// render without --shard writes; a merge with a shard missing or twice, or of parts of
+/// different renders, is one line naming the problem and writes nothing.
+#[test]
+fn shards_merge_into_the_unsplit_image() {
+    let dir = temp_dir("shards");
+    let base = [
+        "render",
+        "--device",
+        "cpu",
+        "--width",
+        "10",
+        "--height",
+        "6",
+        "--mutations-per-pixel",
+        "16",
+        "--bootstrap",
+        "4096",
+        "--method",
+        "s2",
+        "--candidates",
+        "600",
+    ];
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let (ok, _, stderr) = smlt(&[&base[..], &["--out", &path("whole.exr")]].concat());
+    assert!(ok, "{stderr}");
+    for k in 1..=3 {
+        let shard = format!("{k}/3");
+        let (ok, stdout, stderr) =
+            smlt(&[&base[..], &["--shard", &shard, "--out", &path(&format!("part{k}.exr"))]].concat());
+        assert!(ok && stdout.contains(&format!("part {k}/3")), "{stderr}");
+    }
+    let (ok, stdout, stderr) = smlt(&[
+        "merge",
+        &path("part3.exr"),
+        &path("part1.exr"),
+        &path("part2.exr"),
+        "--out",
+        &path("merged.exr"),
+    ]);
+    assert!(ok && stdout.contains("merged"), "{stderr}");
+    let (_, _, whole) = smlt::output::read_exr(&dir.join("whole.exr")).unwrap();
+    let (w, h, merged) = smlt::output::read_exr(&dir.join("merged.exr")).unwrap();
+    assert_eq!((w, h), (10, 6));
+    for (a, b) in whole.iter().zip(&merged) {
+        assert!((a - b).abs() <= 1e-6 * a.abs().max(1e-3), "{a} vs {b}");
+    }
+    let bad = path("bad.exr");
+    let (ok, _, _) =
+        smlt(&[&base[..], &["--seed", "9", "--shard", "3/3", "--out", &path("seed9.exr")]].concat());
+    assert!(ok);
+    for (parts, needle) in [
+        (vec![path("part1.exr"), path("part2.exr")], "shard 3/3 is missing"),
+        (vec![path("part1.exr"), path("part2.exr"), path("part2.exr"), path("part3.exr")], "given twice"),
+        (vec![path("part1.exr"), path("part2.exr"), path("seed9.exr")], "seed 1 vs 9"),
+        (vec![path("part1.exr"), path("part2.exr"), path("whole.exr")], "not an smlt part file"),
+        (vec![path("part1.exr"), path("nothing.exr")], "nothing.exr"),
+    ] {
+        let mut args = vec!["merge".to_string()];
+        args.extend(parts);
+        args.extend(["--out".to_string(), bad.clone()]);
+        let refs: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        let (ok, _, stderr) = smlt(&refs);
+        assert!(!ok && stderr.contains(needle), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(!Path::new(&bad).exists(), "{args:?} wrote {bad}");
+    }
+    let (ok, _, stderr) = smlt(&[&base[..], &["--shard", "4/3", "--out", &bad]].concat());
+    assert!(!ok && stderr.contains("4/3"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

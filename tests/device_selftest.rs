@@ -4,7 +4,7 @@
 
 mod common;
 
-use kernels::selftest::CASE_TREE;
+use kernels::selftest::{CASE_TREE, U32_OUTPUTS_PER_CASE};
 use smlt::selftest::{compare, standard_batch, TOLERANCE_ULPS};
 
 #[test]
@@ -38,11 +38,15 @@ fn the_comparison_catches_a_wrong_value() {
     let batch = standard_batch(1);
     let cpu = batch.run_cpu();
     let mut wrong = cpu.clone();
-    let tree = batch.cases.iter().position(|c| c.kind == CASE_TREE && c.size == 3).unwrap();
-    let o = batch.cases[tree].output as usize + 7 + 8 + 2; // a weight of the d = 3 tree
-    wrong.floats[o] += 1e-4;
+    const DEPTH: u32 = 3;
+    let tree = batch.cases.iter().position(|c| c.kind == CASE_TREE && c.size == DEPTH).unwrap();
+    // A tree case's floats: the 2^d − 1 edge acceptances, the 2^d leaf probabilities, then the
+    // 2^d weights (kernels::selftest).
+    let (acceptances, leaves) = ((1usize << DEPTH) - 1, 1usize << DEPTH);
+    let weights = batch.cases[tree].output as usize + acceptances + leaves;
+    wrong.floats[weights + 2] += 1e-4;
     let last = batch.cases.len() - 1;
-    wrong.words[last * 8 + 1] ^= 1;
+    wrong.words[last * U32_OUTPUTS_PER_CASE + 1] ^= 1;
     let cmp = compare(&batch, &cpu, &wrong);
     assert_eq!(cmp.mismatches.len(), 2, "{:?}", cmp.mismatches);
     assert!(compare(&batch, &cpu, &cpu).mismatches.is_empty());

@@ -12,7 +12,8 @@ use shared::mmlt::{ChainState, PathInfo, PathVertex, RenderParams, Scene, MODE_B
 use shared::{reject_chain, tree};
 use smlt::gpu::Gpu;
 use smlt::passes;
-use smlt::render::{self, cpu::CpuBackend, gpu, Backend, Budget, Method, Settings};
+use smlt::passes::Stage;
+use smlt::render::{self, cpu::CpuBuffers, gpu, Backend, Budget, Method, Settings};
 use smlt::scene::SceneData;
 
 fn close(a: f32, b: f32, rel: f32) -> bool {
@@ -80,11 +81,12 @@ fn difftest(gpu: Gpu, method: Method) {
         candidates: 2048,
         bootstrap_samples: 2048,
         mutation: Default::default(),
+        shard: render::Shard::WHOLE,
     };
     let base = render::base_params(&scene, &s);
     let (c, n) = (base.candidates as usize, base.chains as usize);
     let mut dev = gpu::GpuBackend::new(gpu, &scene, &base).expect("device buffers");
-    let mut cpu = CpuBackend::new(&scene, &base);
+    let mut cpu = CpuBuffers::new(&scene, &base);
     let shared_scene = Scene {
         nodes: &scene.nodes,
         triangles: &scene.triangles,
@@ -94,7 +96,7 @@ fn difftest(gpu: Gpu, method: Method) {
 
     // Bootstrap (mutate, trace, connect in bootstrap mode).
     let boot = RenderParams { mode: MODE_BOOTSTRAP, ..base };
-    let a = cpu.bootstrap(&boot).unwrap();
+    let a = cpu.bootstrap(&boot);
     let b = dev.bootstrap(&boot).unwrap();
     let differ = a.iter().zip(&b).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
     println!("{method}: bootstrap contributions differing: {differ} of {c}");
@@ -110,17 +112,18 @@ fn difftest(gpu: Gpu, method: Method) {
     let chains: Vec<ChainState> = (0..n)
         .map(|p| ChainState {
             contribution: a[p].to_array(),
-            depth: p as u32 % (s.max_depth + 1),
+            depth: shared::normalisation::bootstrap_depth(p as u32, s.max_depth),
             ..Default::default()
         })
         .collect();
-    cpu.start(&chain_u, &chains).unwrap();
+    cpu.chain_u.copy_from_slice(&chain_u);
+    cpu.chains.copy_from_slice(&chains);
     dev.start(&chain_u, &chains).unwrap();
     let params = RenderParams { iteration: 5, ..base };
 
     // mutate
     passes::mutate::cpu(&params, &cpu.chains, &cpu.chain_u, &mut cpu.cand_u, &mut cpu.cand_depth);
-    dev.run(&params, &[(gpu::MUTATE, params.candidates)]).unwrap();
+    dev.run(&params, &[Stage::Mutate]).unwrap();
     let dev_u: Vec<f32> = dev.gpu().read(&dev.buffers().cand_u, cpu.cand_u.len()).unwrap();
     let differ = cpu.cand_u.iter().zip(&dev_u).filter(|(x, y)| (**x - **y).abs() > 1e-6).count();
     println!("{method}: mutate samples differing: {differ} of {}", dev_u.len());
@@ -138,7 +141,7 @@ fn difftest(gpu: Gpu, method: Method) {
         &mut cpu.vertices,
         &mut cpu.paths,
     );
-    dev.run(&params, &[(gpu::TRACE, params.candidates)]).unwrap();
+    dev.run(&params, &[Stage::Trace]).unwrap();
     let dev_paths: Vec<PathInfo> = dev.gpu().read(&dev.buffers().paths, c).unwrap();
     let dev_vertices: Vec<PathVertex> = dev.gpu().read(&dev.buffers().vertices, cpu.vertices.len()).unwrap();
     let slots = shared::mmlt::vertex_slots(s.max_depth) as usize;
@@ -176,7 +179,7 @@ fn difftest(gpu: Gpu, method: Method) {
         &cpu.paths,
         &mut cpu.contributions,
     );
-    dev.run(&params, &[(gpu::CONNECT, params.candidates)]).unwrap();
+    dev.run(&params, &[Stage::Connect]).unwrap();
     let dev_contrib: Vec<Vec4> = dev.gpu().read(&dev.buffers().contributions, c).unwrap();
     let differ = cpu.contributions.iter().zip(&dev_contrib).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
     let nonzero = cpu.contributions.iter().filter(|v| v.truncate().max_element() > 0.0).count();
@@ -188,8 +191,8 @@ fn difftest(gpu: Gpu, method: Method) {
 
     // select, from the CPU's contributions
     upload(dev.gpu(), &dev.buffers().contributions, &cpu.contributions);
-    cpu.select_pass(&params);
-    dev.run(&params, &[(gpu::SELECT, params.chains)]).unwrap();
+    cpu.select(&params);
+    dev.run(&params, &[Stage::Select]).unwrap();
     let dev_chains: Vec<ChainState> = dev.gpu().read(&dev.buffers().chains, n).unwrap();
     let dev_chain_u: Vec<f32> = dev.gpu().read(&dev.buffers().chain_u, cpu.chain_u.len()).unwrap();
     let records = kernels::splat::splat_records(&params) as usize;
@@ -203,10 +206,14 @@ fn difftest(gpu: Gpu, method: Method) {
                 && close(x.accepted, y.accepted, 1e-4)
                 && x.invalid == y.invalid
                 && x.depth == y.depth
+                && x.large_count == y.large_count
+                && close(x.large_sum, y.large_sum, 1e-4)
         })
         .collect();
     let differ = same_state.iter().filter(|x| !**x).count();
     let moved = (0..n).filter(|&p| cpu.chains[p].contribution != chains[p].contribution).count();
+    let tallied = cpu.chains.iter().filter(|x| x.large_count > 0).count();
+    assert!(tallied > 0, "{method}: select tallies the large steps' targets for b");
     println!("{method}: chain states differing: {differ} of {n} ({moved} moved)");
     assert!(differ <= allowed(n).max(1) && moved > 0);
     for p in (0..n).filter(|&p| same_state[p]) {
@@ -253,10 +260,10 @@ fn difftest(gpu: Gpu, method: Method) {
     let mut cpu_image = vec![0.0f64; (params.width * params.height * 3) as usize];
     passes::splat::cpu(&params, &cpu.splats, &mut cpu_image);
     upload(dev.gpu(), &dev.buffers().splats, &cpu.splats[..records]);
-    dev.run(&params, &[(gpu::SPLAT, records as u32)]).unwrap();
-    let mut dev_image = vec![0.0f64; cpu_image.len()];
-    dev.drain(&mut dev_image).unwrap();
-    for (x, y) in cpu_image.iter().zip(&dev_image) {
+    dev.run(&params, &[Stage::Splat]).unwrap();
+    let mut drained = render::Accumulation::new((params.width * params.height) as usize);
+    dev.drain(&mut drained).unwrap();
+    for (x, y) in cpu_image.iter().zip(&drained.image) {
         assert!((x - y).abs() <= 1e-5 * x.abs().max(1.0), "image {x} vs {y}");
     }
     assert!(cpu_image.iter().any(|v| *v > 0.0));
@@ -299,6 +306,7 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
         candidates: 7 * 64,
         bootstrap_samples: 64,
         mutation: Default::default(),
+        shard: render::Shard::WHOLE,
     };
     let base = render::base_params(&scene, &s);
     let (n, c, dims) = (base.chains as usize, base.candidates as usize, base.dims as usize);
@@ -307,7 +315,7 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
     // Chains at the deepest depth, so that every dimension is mutated.
     dev.start(&chain_u, &vec![ChainState { depth: s.max_depth, ..Default::default() }; n]).unwrap();
     let params = RenderParams { iteration: 9, ..base };
-    dev.run(&params, &[(gpu::MUTATE, params.candidates)]).unwrap();
+    dev.run(&params, &[Stage::Mutate]).unwrap();
     let u: Vec<f32> = dev.gpu().read(&dev.buffers().cand_u, c * dims).unwrap();
     // The offset from a to b on the unit circle, in (−0.5, 0.5].
     let step = |a: f32, b: f32| {

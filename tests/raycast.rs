@@ -25,6 +25,7 @@ fn candidates(scene: &SceneData, count: u32, max_depth: u32) -> (RenderParams, V
         candidates: count,
         bootstrap_samples: count,
         mutation: Default::default(),
+        shard: render::Shard::WHOLE,
     };
     let params = RenderParams { mode: MODE_BOOTSTRAP, ..render::base_params(scene, &s) };
     let c = params.candidates as usize;

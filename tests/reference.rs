@@ -118,9 +118,11 @@ fn the_reference_and_mmlt_agree_on_the_default_scene() {
                     candidates: 4096,
                     bootstrap_samples: 1 << 17,
                     mutation: Default::default(),
+                    shard: render::Shard::WHOLE,
                 };
                 let p = render::base_params(&scene, &s);
-                let r = render::render(&scene, &s, &mut CpuBackend::new(&scene, &p), |_| {}).unwrap();
+                let r =
+                    render::render(&scene, &s, &mut CpuBackend::new(&scene, &p, 2).unwrap(), |_| {}).unwrap();
                 block_means(&r.rgb, size)
             })
             .collect();

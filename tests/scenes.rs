@@ -19,6 +19,7 @@ fn the_committed_scenes_are_what_the_generators_write() {
         ("atrium", include_str!("../scenes/atrium.gltf")),
         ("nave", include_str!("../scenes/nave.gltf")),
         ("sunblind", include_str!("../scenes/sunblind.gltf")),
+        ("slit", include_str!("../scenes/slit.gltf")),
     ] {
         assert_eq!(
             text,
@@ -45,7 +46,9 @@ fn tessellation_reaches_the_seeds_triangle_counts() {
 /// Every view of every scene receives light (the reference estimator sees something).
 #[test]
 fn every_view_is_lit() {
-    for (name, view) in [("atrium", 1), ("atrium", 2), ("nave", 1), ("sunblind", 1), ("cornell", 1)] {
+    for (name, view) in
+        [("atrium", 1), ("atrium", 2), ("nave", 1), ("sunblind", 1), ("slit", 1), ("cornell", 1)]
+    {
         let mut scene = load(name, 1);
         scene.select_view(view).unwrap();
         let s = ReferenceSettings {

@@ -46,6 +46,8 @@ pub struct BenchSettings {
     pub candidates: Option<u32>,
     /// Tessellation of generated scenes.
     pub tessellation: u32,
+    /// Threads of the CPU backend.
+    pub threads: usize,
     /// Output folder.
     pub out: PathBuf,
 }
@@ -73,17 +75,21 @@ pub struct Row {
     pub errors: Errors,
     /// Candidates rejected so far for a NaN or infinite contribution (never splatted).
     pub nan_inf: u64,
+    /// The normalisation b so far (bootstrap and large steps pooled).
+    pub b: f64,
+    /// b's standard error relative to b.
+    pub b_rel_se: f64,
 }
 
 /// The CSV header of `results.csv`.
 pub const CSV_HEADER: &str =
-    "scene,view,method,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr,nan_inf";
+    "scene,view,method,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr,nan_inf,b,b_rel_se";
 
 impl Row {
     /// The row as CSV.
     pub fn csv(&self) -> String {
         format!(
-            "{},{},{},{:.3},{},{:.0},{:.1},{:.1},{:.6e},{:.6e},{:.3},{}",
+            "{},{},{},{:.3},{},{:.0},{:.1},{:.1},{:.6e},{:.6e},{:.3},{},{:.6e},{:.4e}",
             self.scene,
             self.view,
             self.method,
@@ -95,13 +101,15 @@ impl Row {
             self.errors.rmse,
             self.errors.relmse,
             self.errors.psnr,
-            self.nan_inf
+            self.nan_inf,
+            self.b,
+            self.b_rel_se
         )
     }
 }
 
-/// Reads the rows of a `results.csv` (the NaN/Inf column may be absent, as in files written
-/// before it existed).
+/// Reads the rows of a `results.csv` (the NaN/Inf and b columns may be absent, as in files
+/// written before they existed).
 pub fn read_csv(text: &str) -> anyhow::Result<Vec<Row>> {
     let mut rows = Vec::new();
     for (i, line) in text.lines().enumerate().skip(1) {
@@ -123,6 +131,8 @@ pub fn read_csv(text: &str) -> anyhow::Result<Vec<Row>> {
             steps_per_s: num(7)?,
             errors: Errors { rmse: num(8)?, relmse: num(9)?, psnr: num(10)? },
             nan_inf: if f.len() > 11 { num(11)? as u64 } else { 0 },
+            b: if f.len() > 12 { num(12)? } else { f64::NAN },
+            b_rel_se: if f.len() > 13 { num(13)? } else { f64::NAN },
         });
     }
     Ok(rows)
@@ -159,13 +169,19 @@ pub fn time_grid(seconds: f64) -> Vec<f64> {
     grid
 }
 
-fn scene_text(name: &str, tessellation: u32) -> std::io::Result<(String, Vec<u8>)> {
+/// A generated scene by name, or a glTF file (with its external buffers) by path: its label,
+/// the scene, and the hash of everything it was read from.
+fn load_scene(name: &str, tessellation: u32) -> anyhow::Result<(String, SceneData, String)> {
     match crate::scenes::generate(name, tessellation) {
-        Some(text) => Ok((name.to_string(), text.into_bytes())),
-        None => Ok((
-            Path::new(name).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
-            std::fs::read(name)?,
-        )),
+        Some(text) => {
+            let scene = SceneData::from_slice(text.as_bytes(), name)?;
+            Ok((name.to_string(), scene, content_hash(text.as_bytes())))
+        }
+        None => {
+            let path = Path::new(name);
+            let label = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            Ok((label, SceneData::load(path)?, crate::scene::files_hash(path)?))
+        }
     }
 }
 
@@ -176,15 +192,14 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
     let mut profiles: Vec<Profile> = Vec::new();
     let mut noises: Vec<(String, u32, Option<f64>)> = Vec::new();
     for (name, view) in &b.scenes {
-        let (label, bytes) = scene_text(name, b.tessellation)?;
-        let mut scene = SceneData::from_slice(&bytes, &label)?;
+        let (label, mut scene, scene_hash) = load_scene(name, b.tessellation)?;
         scene.select_view(*view)?;
         // The reference: cached with its settings. A CPU Vulkan device (lavapipe) is slower than
         // the host's own threads for it, so then the host renders it.
         let reference_path = b.out.join(format!("reference_{label}_v{view}.exr"));
         let rs = ReferenceSettings {
             scene: format!("{label} view {view}"),
-            scene_hash: content_hash(&bytes),
+            scene_hash,
             width: b.width,
             height: b.height,
             max_depth: b.max_depth,
@@ -225,19 +240,27 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
                 candidates,
                 bootstrap_samples: 65536,
                 mutation: Default::default(),
+                shard: render::Shard::WHOLE,
             })
             .collect();
-        let mut backends: Vec<Box<dyn Backend + '_>> = Vec::new();
+        // One backend per method, all on the same device: the device's kept as such, for the
+        // per-pass profile after the equal-time runs.
+        let mut gpu_backends: Vec<GpuBackend> = Vec::new();
+        let mut cpu_backends: Vec<CpuBackend> = Vec::new();
         for s in &settings {
             let params = render::base_params(&scene, s);
-            backends.push(match gpu {
-                Some(g) => Box::new(GpuBackend::new(g.clone(), &scene, &params)?),
-                None => Box::new(CpuBackend::new(&scene, &params)),
-            });
+            match gpu {
+                Some(g) => gpu_backends.push(GpuBackend::new(g.clone(), &scene, &params)?),
+                None => cpu_backends.push(CpuBackend::new(&scene, &params, b.threads)?),
+            }
         }
         let mut renderers: Vec<Renderer> = Vec::new();
-        for (s, backend) in settings.iter().zip(backends.iter_mut()) {
-            renderers.push(Renderer::start(&scene, s, backend.as_mut())?);
+        let backends = gpu_backends
+            .iter_mut()
+            .map(|g| g as &mut dyn Backend)
+            .chain(cpu_backends.iter_mut().map(|c| c as &mut dyn Backend));
+        for (s, backend) in settings.iter().zip(backends) {
+            renderers.push(Renderer::start(&scene, s, backend)?);
         }
         let mut last: Vec<Vec<f32>> = vec![Vec::new(); renderers.len()];
         for t in time_grid(b.seconds) {
@@ -258,6 +281,8 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
                     steps_per_s: st.steps / st.render_seconds,
                     errors: errors(&image.rgb, &reference),
                     nan_inf: st.invalid,
+                    b: st.b,
+                    b_rel_se: st.b_relative_standard_error(),
                 };
                 log(&row.csv());
                 rows.push(row);
@@ -268,9 +293,8 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
         // equal-time runs so that they do not disturb them.
         let next: Vec<RenderParams> = renderers.iter().map(Renderer::next_params).collect();
         drop(renderers);
-        for (i, backend) in backends.iter_mut().enumerate() {
+        for (i, device) in gpu_backends.iter_mut().enumerate() {
             let method = b.methods[i].to_string();
-            let Some(device) = backend.as_gpu() else { continue };
             let measured = final_row(&rows, &label, *view, &method).map_or(0.0, |r| r.mutations_per_s);
             let p = profile(device, &scene, (&label, *view, &method), next[i], measured)?;
             log(&format!("profile {}", p.csv()));
@@ -305,7 +329,7 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
     } else {
         std::fs::write(
             b.out.join("passes.csv"),
-            profiles.iter().fold(format!("{}\n", crate::profile::CSV_HEADER), |mut s, p| {
+            profiles.iter().fold(format!("{}\n", crate::profile::csv_header()), |mut s, p| {
                 s.push_str(&p.csv());
                 s.push('\n');
                 s

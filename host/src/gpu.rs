@@ -16,6 +16,16 @@ pub enum GpuError {
          or render with --device cpu"
     )]
     NoAdapter,
+    /// `--adapter` named no adapter.
+    #[error(
+        "no Vulkan adapter matches --adapter {wanted}; the adapters are: {available} (see `smlt devices`)"
+    )]
+    NoSuchAdapter {
+        /// What the user asked for.
+        wanted: String,
+        /// The adapters there are, as index: name.
+        available: String,
+    },
     /// The adapter refused to create a device.
     #[error("the Vulkan adapter {adapter} could not create a device: {source}")]
     RequestDevice {
@@ -85,11 +95,111 @@ pub struct Gpu {
     pub shader_path: ShaderPath,
     /// Pipelines already built, by entry point and binding signature: a driver compiles a
     /// large kernel in seconds, and the bench builds the same passes for many methods.
-    pipelines: std::sync::Arc<std::sync::Mutex<PipelineCache>>,
+    pipelines: std::sync::Arc<std::sync::Mutex<Pipelines>>,
+    /// The driver's pipeline cache, kept on disk between runs where the adapter supports it.
+    disk_cache: Option<std::sync::Arc<DiskCache>>,
 }
 
-type PipelineCache =
+type Pipelines =
     std::collections::HashMap<(String, Vec<bool>), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>;
+
+/// A wgpu `PipelineCache` and the file it is loaded from and saved to: the driver's compiled
+/// kernels, keyed by adapter (vendor, device) and by the kernels module's hash.
+struct DiskCache {
+    cache: wgpu::PipelineCache,
+    path: std::path::PathBuf,
+}
+
+impl DiskCache {
+    /// The cache directory: `$SMLT_CACHE_DIR`, else `$XDG_CACHE_HOME/smlt`, else `~/.cache/smlt`.
+    fn directory() -> Option<std::path::PathBuf> {
+        if let Some(d) = std::env::var_os("SMLT_CACHE_DIR") {
+            return Some(d.into());
+        }
+        if let Some(d) = std::env::var_os("XDG_CACHE_HOME").filter(|d| !d.is_empty()) {
+            return Some(std::path::PathBuf::from(d).join("smlt"));
+        }
+        std::env::var_os("HOME").map(|h| std::path::PathBuf::from(h).join(".cache").join("smlt"))
+    }
+
+    fn open(device: &wgpu::Device, info: &wgpu::AdapterInfo) -> Option<Self> {
+        let key = wgpu::util::pipeline_cache_key(info)?;
+        let module = crate::reference::content_hash(KERNELS_SPV);
+        let path = Self::directory()?.join(format!("{key}_{module}.bin"));
+        let data = std::fs::read(&path).ok();
+        // SAFETY: the data is what `get_data` returned for this adapter key and module (or
+        // absent); wgpu and the driver validate its header and fall back to an empty cache.
+        let cache = unsafe {
+            device.create_pipeline_cache(&wgpu::PipelineCacheDescriptor {
+                label: Some("smlt kernels"),
+                data: data.as_deref(),
+                fallback: true,
+            })
+        };
+        Some(Self { cache, path })
+    }
+
+    /// Writes the cache's data to disk (to a temporary file renamed into place); a failure
+    /// only costs the next run its compile time, so it is ignored.
+    fn save(&self) {
+        let Some(data) = self.cache.get_data() else { return };
+        if std::fs::read(&self.path).ok().as_deref() == Some(&data[..]) {
+            return;
+        }
+        if let Some(dir) = self.path.parent() {
+            let _ = std::fs::create_dir_all(dir);
+        }
+        let tmp = self.path.with_extension(format!("{}.tmp", std::process::id()));
+        if std::fs::write(&tmp, &data).is_ok() {
+            let _ = std::fs::rename(&tmp, &self.path);
+        }
+    }
+}
+
+/// The Vulkan adapters of this machine, in enumeration order (what `--adapter INDEX` counts).
+pub fn adapters() -> Vec<wgpu::Adapter> {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    desc.backends = wgpu::Backends::VULKAN;
+    let instance = wgpu::Instance::new(desc);
+    pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN))
+}
+
+/// Whether an adapter is a real GPU (discrete or integrated), not a CPU driver like lavapipe.
+pub fn is_real_gpu(info: &wgpu::AdapterInfo) -> bool {
+    matches!(info.device_type, wgpu::DeviceType::DiscreteGpu | wgpu::DeviceType::IntegratedGpu)
+}
+
+/// Picks an adapter: the one at index `wanted`, else the first whose name contains `wanted`
+/// (case-insensitive), else — with no `wanted` — the best by type (discrete, integrated,
+/// virtual, CPU).
+pub fn choose_adapter(adapters: Vec<wgpu::Adapter>, wanted: Option<&str>) -> Result<wgpu::Adapter, GpuError> {
+    let Some(wanted) = wanted else {
+        return adapters
+            .into_iter()
+            .min_by_key(|a| rank(a.get_info().device_type))
+            .ok_or(GpuError::NoAdapter);
+    };
+    let available = adapters
+        .iter()
+        .enumerate()
+        .map(|(i, a)| format!("{i}: {}", a.get_info().name))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let by_index = wanted.parse::<usize>().ok().filter(|&i| i < adapters.len());
+    let lower = wanted.to_lowercase();
+    let found = match by_index {
+        Some(i) => Some(i),
+        None => adapters.iter().position(|a| a.get_info().name.to_lowercase().contains(&lower)),
+    };
+    match found {
+        Some(i) => Ok(adapters.into_iter().nth(i).expect("index in range")),
+        None if adapters.is_empty() => Err(GpuError::NoAdapter),
+        None => Err(GpuError::NoSuchAdapter {
+            wanted: wanted.to_string(),
+            available: if available.is_empty() { "none".into() } else { available },
+        }),
+    }
+}
 
 /// The names of a SPIR-V module's entry points (from its `OpEntryPoint` instructions).
 pub fn spirv_entry_points(words: &[u32]) -> Vec<String> {
@@ -129,17 +239,19 @@ impl Gpu {
     /// and loads the kernels, handing the SPIR-V to the driver unchanged where the adapter
     /// allows it and through naga otherwise.
     pub fn new() -> Result<Self, GpuError> {
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        desc.backends = wgpu::Backends::VULKAN;
-        let instance = wgpu::Instance::new(desc);
-        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
-        let adapter =
-            adapters.into_iter().min_by_key(|a| rank(a.get_info().device_type)).ok_or(GpuError::NoAdapter)?;
+        Self::open(None)
+    }
+
+    /// Opens the adapter `wanted` names ([`choose_adapter`]: an index or part of a name), or
+    /// the best one, and loads the kernels.
+    pub fn open(wanted: Option<&str>) -> Result<Self, GpuError> {
+        let adapter = choose_adapter(adapters(), wanted)?;
         let info = adapter.get_info();
         let limits = adapter.limits();
         let wanted = wgpu::Features::PASSTHROUGH_SHADERS
             | wgpu::Features::SHADER_FLOAT32_ATOMIC
-            | wgpu::Features::TIMESTAMP_QUERY;
+            | wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::PIPELINE_CACHE;
         let features = adapter.features() & wanted;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("smlt"),
@@ -191,7 +303,22 @@ impl Gpu {
             }
             (module, ShaderPath::Naga)
         };
-        Ok(Self { info, limits, features, device, queue, module, shader_path, pipelines: Default::default() })
+        let disk_cache = if features.contains(wgpu::Features::PIPELINE_CACHE) {
+            DiskCache::open(&device, &info).map(std::sync::Arc::new)
+        } else {
+            None
+        };
+        Ok(Self {
+            info,
+            limits,
+            features,
+            device,
+            queue,
+            module,
+            shader_path,
+            pipelines: Default::default(),
+            disk_cache,
+        })
     }
 
     /// A one-line description of the device: name, type, driver, and how kernels are loaded.
@@ -253,13 +380,26 @@ impl Gpu {
             module: &self.module,
             entry_point: Some(entry),
             compilation_options: Default::default(),
-            cache: None,
+            cache: self.disk_cache.as_ref().map(|c| &c.cache),
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
             let message = format!("{e}").split_whitespace().collect::<Vec<_>>().join(" ");
             return Err(GpuError::Pipeline { entry: entry.to_string(), message });
         }
         Ok((pipeline, bind_layout))
+    }
+
+    /// Saves the driver's pipeline cache to disk (where the adapter has one), so that the next
+    /// run on this machine skips compiling the kernels.
+    pub fn save_pipeline_cache(&self) {
+        if let Some(c) = &self.disk_cache {
+            c.save();
+        }
+    }
+
+    /// Where the pipeline cache lives, if the adapter supports one.
+    pub fn pipeline_cache_path(&self) -> Option<&std::path::Path> {
+        self.disk_cache.as_ref().map(|c| c.path.as_path())
     }
 
     /// A storage buffer holding `data` (at least 4 bytes, as Vulkan wants no empty buffers).

@@ -6,6 +6,7 @@ pub mod bench;
 pub mod gpu;
 pub mod metrics;
 pub mod output;
+pub mod part;
 pub mod passes;
 pub mod plots;
 pub mod profile;

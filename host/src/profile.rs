@@ -8,6 +8,7 @@
 
 use std::fmt::Write as _;
 
+use crate::passes::Stage;
 use crate::raycast::{log_candidates, replay};
 use crate::render::gpu::GpuBackend;
 use crate::render::RenderError;
@@ -19,8 +20,6 @@ use shared::mmlt::RenderParams;
 pub const TIMED_ITERATIONS: u32 = 16;
 /// Replays of the logged rays timed per method.
 pub const REPLAYS: u32 = 4;
-/// The names of the passes, in order.
-pub const PASSES: [&str; 5] = ["mutate", "trace", "connect", "select", "splat"];
 
 /// One method's profile on one scene view.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,7 +34,7 @@ pub struct Profile {
     pub candidates: u32,
     /// How the passes were timed.
     pub clock: Clock,
-    /// Mean device milliseconds of each pass per iteration (`PASSES` order).
+    /// Mean device milliseconds of each stage per iteration ([`Stage::ITERATION`] order).
     pub pass_ms: [f64; 5],
     /// Rays cast per candidate (trace and connect).
     pub rays_per_candidate: f64,
@@ -58,6 +57,11 @@ impl Profile {
         self.mutations_per_s / self.ceiling_mutations_per_s()
     }
 
+    /// Mean device milliseconds of `stage` per iteration.
+    pub fn ms(&self, stage: Stage) -> f64 {
+        self.pass_ms[stage.index()]
+    }
+
     /// Device milliseconds of a whole iteration (the passes' sum).
     pub fn iteration_ms(&self) -> f64 {
         self.pass_ms.iter().sum()
@@ -65,19 +69,20 @@ impl Profile {
 
     /// Trace and connect nanoseconds per candidate.
     pub fn trace_connect_ns(&self) -> f64 {
-        (self.pass_ms[1] + self.pass_ms[2]) * 1e6 / self.candidates as f64
+        (self.ms(Stage::Trace) + self.ms(Stage::Connect)) * 1e6 / self.candidates as f64
     }
 
     /// The profile as CSV.
     pub fn csv(&self) -> String {
-        let [m, t, c, s, p] = self.pass_ms;
+        let stages: Vec<String> = self.pass_ms.iter().map(|ms| format!("{ms:.4}")).collect();
         format!(
-            "{},{},{},{},{},{m:.4},{t:.4},{c:.4},{s:.4},{p:.4},{:.4},{:.1},{:.1},{:.1},{:.4},{:.2}",
+            "{},{},{},{},{},{},{:.4},{:.1},{:.1},{:.1},{:.4},{:.2}",
             self.scene,
             self.view,
             self.method,
             self.candidates,
             self.clock,
+            stages.join(","),
             self.rays_per_candidate,
             self.bare_rays_per_s,
             self.ceiling_mutations_per_s(),
@@ -88,10 +93,15 @@ impl Profile {
     }
 }
 
-/// The CSV header of `passes.csv`.
-pub const CSV_HEADER: &str = "scene,view,method,candidates,clock,mutate_ms,trace_ms,connect_ms,select_ms,\
-                              splat_ms,rays_per_candidate,bare_rays_per_s,ceiling_mutations_per_s,\
-                              mutations_per_s,ceiling_fraction,device_mib";
+/// The CSV header of `passes.csv`: a `<stage>_ms` column per stage.
+pub fn csv_header() -> String {
+    let stages: Vec<String> = Stage::ITERATION.iter().map(|s| format!("{}_ms", s.name())).collect();
+    format!(
+        "scene,view,method,candidates,clock,{},rays_per_candidate,bare_rays_per_s,ceiling_mutations_per_s,\
+         mutations_per_s,ceiling_fraction,device_mib",
+        stages.join(",")
+    )
+}
 
 /// Profiles `method`'s render of `scene` (named `label`, view `view`) on `backend` from
 /// `params` (the next iteration's), whose equal-time run measured `mutations_per_s`: times
@@ -148,20 +158,24 @@ pub fn tables(profiles: &[Profile]) -> String {
     for (scene, view) in views {
         let rows: Vec<&Profile> = profiles.iter().filter(|p| p.scene == scene && p.view == view).collect();
         let clock = rows.first().map(|p| p.clock).unwrap_or(Clock::Wall);
+        let names: Vec<&str> = Stage::ITERATION.iter().map(|s| s.name()).collect();
         let _ = writeln!(
             out,
             "### Inside an iteration: {scene} v{view} (device ms per iteration, {clock} clock)\n\n\
-             | method | candidates | mutate | trace | connect | select | splat | total | trace+connect ns/candidate \
+             | method | candidates | {} | total | trace+connect ns/candidate \
              | rays/candidate | bare M rays/s | ceiling M mut/s | measured M mut/s | of ceiling | device MiB |\n\
-             |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+             |---|---|{}---|---|---|---|---|---|---|---|---|",
+            names.join(" | "),
+            "---|".repeat(names.len())
         );
         for p in rows {
-            let [m, t, c, s, sp] = p.pass_ms;
+            let stages: Vec<String> = p.pass_ms.iter().map(|ms| format!("{ms:.2}")).collect();
             let _ = writeln!(
                 out,
-                "| {} | {} | {m:.2} | {t:.2} | {c:.2} | {s:.2} | {sp:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2} | {:.2} | {:.0} % | {:.1} |",
+                "| {} | {} | {} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2} | {:.2} | {:.0} % | {:.1} |",
                 p.method,
                 p.candidates,
+                stages.join(" | "),
                 p.iteration_ms(),
                 p.trace_connect_ns(),
                 p.rays_per_candidate,

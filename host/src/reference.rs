@@ -107,6 +107,7 @@ pub fn render_reference(
         candidates: 1,
         bootstrap_samples: 1,
         mutation: Default::default(),
+        shard: render::Shard::WHOLE,
     };
     let base = RenderParams { candidates: per_pass, ..render::base_params(scene, &settings) };
     let pixels = (s.width * s.height) as usize;

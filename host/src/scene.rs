@@ -21,7 +21,7 @@ use glam::{Mat4, Vec3, Vec4Swizzles};
 use shared::bsdf::Material;
 use shared::bvh::{BvhNode, Triangle, BVH_STACK_SIZE};
 use shared::camera::Camera;
-use shared::light::LightEntry;
+use shared::light::{light_cdf, LightEntry};
 use shared::mmlt::luminance;
 
 /// The material-extras key holding the Phong exponent, e.g. `"extras": {"smlt_phong_exponent": 1e5}`.
@@ -75,6 +75,9 @@ pub struct CameraSpec {
     pub up: Vec3,
     /// Vertical field of view in radians.
     pub yfov: f32,
+    /// The glTF camera's aspect ratio (width / height), when it states one: `--height`
+    /// defaults to the width divided by it.
+    pub aspect: Option<f32>,
 }
 
 /// A scene ready for rendering.
@@ -240,20 +243,11 @@ impl SceneData {
                 (luminance(e) as f64 * t.area as f64).max(0.0)
             })
             .collect();
-        let total: f64 = power.iter().sum();
-        if !(total > 0.0) {
-            return Err(SceneError::NoEmitter(name.into()));
+        let area: Vec<f32> = triangles.iter().map(|t| t.area).collect();
+        let (lights, pdf) = light_cdf(&power, &area).ok_or_else(|| SceneError::NoEmitter(name.into()))?;
+        for (t, pdf) in triangles.iter_mut().zip(pdf) {
+            t.light_area_pdf = pdf;
         }
-        let mut lights = Vec::new();
-        let mut running = 0.0f64;
-        for (i, (t, &p)) in triangles.iter_mut().zip(&power).enumerate() {
-            if p > 0.0 {
-                running += p;
-                lights.push(LightEntry { triangle: i as u32, cdf: (running / total) as f32 });
-                t.light_area_pdf = (p / total / t.area as f64) as f32;
-            }
-        }
-        lights.last_mut().expect("an emitter exists").cdf = 1.0;
         let mut lo = Vec3::splat(f32::MAX);
         let mut hi = Vec3::splat(f32::MIN);
         for t in &soup.triangles {
@@ -293,6 +287,27 @@ fn missing_resource(path: &Path) -> Option<String> {
     buffers.chain(images).find(|uri| !uri.starts_with("data:") && !dir.join(uri).exists())
 }
 
+/// A hash of a glTF file and every external buffer it refers to (what a cache or a part file
+/// must change with: a changed `.bin` changes the scene).
+pub fn files_hash(path: &Path) -> Result<String, SceneError> {
+    let fail = |reason: String| SceneError::Load { path: path.display().to_string(), reason };
+    let mut bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
+    if let Ok(gltf) = gltf::Gltf::from_slice(&bytes) {
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let uris: Vec<String> = gltf
+            .buffers()
+            .filter_map(|b| match b.source() {
+                gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => Some(uri.to_string()),
+                _ => None,
+            })
+            .collect();
+        for uri in uris {
+            bytes.extend(std::fs::read(dir.join(&uri)).map_err(|e| fail(format!("{uri}: {e}")))?);
+        }
+    }
+    Ok(crate::reference::content_hash(&bytes))
+}
+
 /// The documented default camera: 40° vertical field of view, looking down −Z at the box's
 /// centre from where its larger side fills the view.
 pub fn default_camera(lo: Vec3, hi: Vec3) -> CameraSpec {
@@ -300,7 +315,13 @@ pub fn default_camera(lo: Vec3, hi: Vec3) -> CameraSpec {
     let centre = (lo + hi) * 0.5;
     let extent = hi - lo;
     let distance = 0.5 * extent.x.max(extent.y) / (yfov * 0.5).tan() + 0.5 * extent.z;
-    CameraSpec { position: centre + Vec3::Z * distance.max(1e-3), forward: -Vec3::Z, up: Vec3::Y, yfov }
+    CameraSpec {
+        position: centre + Vec3::Z * distance.max(1e-3),
+        forward: -Vec3::Z,
+        up: Vec3::Y,
+        yfov,
+        aspect: None,
+    }
 }
 
 /// Depth (levels) of a BVH in obvhs's layout.
@@ -372,9 +393,23 @@ pub fn read_document(
     }
     let scene =
         doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| SceneError::Empty(name.into()))?;
-    let mut stack: Vec<(gltf::Node, Mat4)> = scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
+    // glTF's node hierarchy is a set of disjoint trees: a node reached twice has two parents or
+    // is its own ancestor, and a walk through a cycle would never end.
+    let mut reached = vec![false; doc.nodes().len()];
+    let mut stack: Vec<(gltf::Node, Mat4, Option<usize>)> =
+        scene.nodes().map(|n| (n, Mat4::IDENTITY, None)).collect();
     stack.reverse();
-    while let Some((node, parent)) = stack.pop() {
+    while let Some((node, parent, parent_index)) = stack.pop() {
+        if std::mem::replace(&mut reached[node.index()], true) {
+            let via = parent_index.map(|p| format!(" (again as a child of node {p})")).unwrap_or_default();
+            return Err(SceneError::Unsupported {
+                path: name.into(),
+                what: format!(
+                    "the node graph is not a tree: node {} is reached twice{via}; a cycle or a shared node",
+                    node.index()
+                ),
+            });
+        }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(cam) = node.camera() {
             {
@@ -387,6 +422,7 @@ pub fn read_document(
                             forward,
                             up: (up - forward * up.dot(forward)).normalize(),
                             yfov: p.yfov(),
+                            aspect: p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0),
                         });
                     }
                     gltf::camera::Projection::Orthographic(_) => {
@@ -442,7 +478,7 @@ pub fn read_document(
                 }
             }
         }
-        let children: Vec<_> = node.children().map(|c| (c, world)).collect();
+        let children: Vec<_> = node.children().map(|c| (c, world, Some(node.index()))).collect();
         stack.extend(children.into_iter().rev());
     }
     Ok(soup)

@@ -5,7 +5,8 @@
 //! the l proposals is its own mutation of the current state. Each candidate also gets its path
 //! depth: a large step proposes a fresh uniform depth with its fresh samples, small steps keep
 //! the chain's (`shared::mutation::large_step_depth`). In bootstrap mode every candidate is a
-//! fresh independent sample of depth `index mod (max_depth + 1)`. Groups of four dimensions
+//! fresh independent sample of depth `shared::normalisation::bootstrap_depth(index)`. Random numbers
+//! are keyed by the chain's render-wide index (`RenderParams::global_chain`). Groups of four dimensions
 //! that a candidate's depth never reads (`shared::mmlt::dimensions_used`) are left as they are.
 
 use shared::layout::soa_index;
@@ -16,6 +17,7 @@ use shared::mutation::{
     descends_from_level_one, is_large_step, is_reject_large_step, large_step_depth, reject_chain_samples,
     tree_candidate_sample, tree_level_uniforms,
 };
+use shared::normalisation::bootstrap_depth;
 use shared::rng::{self, RngKey};
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
@@ -37,7 +39,7 @@ pub fn mutate(
     let c = params.candidates;
     let groups = params.dims.div_ceil(4);
     if params.mode == MODE_BOOTSTRAP {
-        cand_depth[k as usize] = (params.sample_offset + k) % (params.max_depth + 1);
+        cand_depth[k as usize] = bootstrap_depth(params.sample_offset + k, params.max_depth);
         let key = bootstrap_key(params.seed, params.sample_offset + k);
         let mut group = 0;
         while group < groups {
@@ -54,15 +56,18 @@ pub fn mutate(
     let per_chain = params.candidates_per_chain();
     let chain = k / per_chain;
     let j = k % per_chain;
-    let key = RngKey { seed: params.seed, chain, iteration: params.iteration, dimension: 0 };
+    // Buffers are indexed by the chain's place in this dispatch, random numbers by its
+    // render-wide index.
+    let global = params.global_chain(chain);
+    let key = RngKey { seed: params.seed, chain: global, iteration: params.iteration, dimension: 0 };
     let mut group = 0;
     if params.method == METHOD_REJECT_CHAIN {
         // Proposal j of the reject chain: its own mutation of the current state.
-        let large = is_reject_large_step(params.seed, chain, params.iteration, j, params.mutation.p_large);
+        let large = is_reject_large_step(params.seed, global, params.iteration, j, params.mutation.p_large);
         let depth = if large {
             large_step_depth(
                 params.seed,
-                chain,
+                global,
                 params.iteration,
                 rng::CONTROL_REJECT_DEPTH + j,
                 params.max_depth,
@@ -92,9 +97,9 @@ pub fn mutate(
         }
         return;
     }
-    let large = is_large_step(params.seed, chain, params.iteration, params.mutation.p_large);
+    let large = is_large_step(params.seed, global, params.iteration, params.mutation.p_large);
     let depth = if large && descends_from_level_one(j) {
-        large_step_depth(params.seed, chain, params.iteration, rng::CONTROL_DEPTH, params.max_depth)
+        large_step_depth(params.seed, global, params.iteration, rng::CONTROL_DEPTH, params.max_depth)
     } else {
         chains[chain as usize].depth
     };

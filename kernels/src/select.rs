@@ -6,28 +6,15 @@
 //! contribution and path depth).
 
 use shared::acceptance::is_valid_target;
-use shared::layout::{pack_contribution, soa_index, unpack_contribution, NO_PIXEL};
+use shared::layout::{soa_index, splat_record};
 use shared::mmlt::{luminance, ChainState, RenderParams, METHOD_REJECT_CHAIN};
+use shared::mutation::{is_large_step, is_reject_large_step};
+use shared::normalisation::tally_large_step;
 use shared::reject_chain::{self, MAX_REJECT_CHAIN, MAX_REJECT_CHAIN_STATES};
 use shared::rng::{self, RngKey};
 use shared::tree::{self, MAX_TREE_CANDIDATES, MAX_TREE_LEAVES, MAX_TREE_STATES};
-use spirv_std::glam::{UVec3, Vec3, Vec4};
+use spirv_std::glam::{UVec3, Vec4};
 use spirv_std::spirv;
-
-/// The splat record of a state with contribution `v` (F, pixel bits), target `c` and weight
-/// `w`: (F/c)·w — F/c is bounded, unlike w/c, which overflows for a denormal c — or an empty
-/// record when the state has no weight or is invalid.
-#[inline]
-pub fn splat_record(v: Vec4, c: f32, w: f32) -> Vec4 {
-    let (rgb, pixel) = unpack_contribution(v);
-    let value = (rgb / c) * w;
-    let finite = is_valid_target(value.x) && is_valid_target(value.y) && is_valid_target(value.z);
-    if w > 0.0 && c > 0.0 && is_valid_target(c) && finite {
-        pack_contribution(value, 1.0, pixel)
-    } else {
-        pack_contribution(Vec3::ZERO, 0.0, NO_PIXEL)
-    }
-}
 
 /// What selection decided for one chain.
 struct Decision {
@@ -41,11 +28,11 @@ struct Decision {
     invalid: u32,
 }
 
-/// The uniform that draws the next state.
+/// The uniform that draws the next state of chain `p` (keyed by its render-wide index).
 fn selection_uniform(params: &RenderParams, p: u32) -> f32 {
     rng::uniform(RngKey {
         seed: params.seed,
-        chain: p,
+        chain: params.global_chain(p),
         iteration: params.iteration,
         dimension: rng::dimension(rng::STREAM_CONTROL, rng::CONTROL_SELECT),
     })
@@ -92,24 +79,15 @@ fn select_tree(
     let mut leaf = [0.0f32; MAX_TREE_LEAVES];
     let mut weight = [0.0f32; MAX_TREE_STATES];
     tree::evaluate_tree(d, &c, &mut accept, &mut leaf, &mut weight);
-    let mut accepted = 0.0f32;
     let mut s = 0;
     while s < states {
         let v = if s == 0 { root } else { contributions[(base + s - 1) as usize] };
         splats[(p * states + s) as usize] = splat_record(v, c[s as usize], weight[s as usize]);
-        // Leaf s (a history of d decisions) has popcount(s) acceptances.
-        let mut bits = s;
-        let mut ones = 0u32;
-        while bits > 0 {
-            ones += bits & 1;
-            bits >>= 1;
-        }
-        accepted += ones as f32 * leaf[s as usize];
         s += 1;
     }
     Decision {
         next: tree::select_next_state(d, &leaf, selection_uniform(params, p)),
-        accepted,
+        accepted: tree::expected_acceptances(d, &leaf),
         steps: d as f32,
         invalid: count_invalid(&c, 1, states as usize),
     }
@@ -146,6 +124,26 @@ fn select_reject_chain(
     }
 }
 
+/// Tallies the targets of chain `p`'s large-step candidates of this iteration, independent
+/// samples of the normalisation's distribution (`shared::normalisation`): a tree's level-1
+/// candidate when the iteration is a large step, a reject chain's large-step proposals.
+fn tally_large_steps(p: u32, params: &RenderParams, contributions: &[Vec4], state: &mut ChainState) {
+    let global = params.global_chain(p);
+    let per = params.candidates_per_chain();
+    let base = p * per;
+    if params.method == METHOD_REJECT_CHAIN {
+        let mut j = 0;
+        while j < per {
+            if is_reject_large_step(params.seed, global, params.iteration, j, params.mutation.p_large) {
+                tally_large_step(state, luminance(contributions[(base + j) as usize].truncate()));
+            }
+            j += 1;
+        }
+    } else if is_large_step(params.seed, global, params.iteration, params.mutation.p_large) {
+        tally_large_step(state, luminance(contributions[base as usize].truncate()));
+    }
+}
+
 /// The kernel body for chain `p`.
 #[allow(clippy::too_many_arguments)] // one slice per binding, as the entry point hands them over
 pub fn select(
@@ -179,6 +177,7 @@ pub fn select(
         state.contribution = contributions[cand as usize].to_array();
         state.depth = cand_depth[cand as usize];
     }
+    tally_large_steps(p, params, contributions, &mut state);
     state.accepted += decision.accepted;
     state.steps += decision.steps;
     state.invalid += decision.invalid;
@@ -204,7 +203,9 @@ pub fn select_cs(
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests {
     use super::*;
+    use shared::layout::{pack_contribution, unpack_contribution, NO_PIXEL};
     use shared::mmlt::{METHOD_REJECT_CHAIN, METHOD_TREE};
+    use spirv_std::glam::Vec3;
 
     fn params(method: u32, per_chain: u32) -> RenderParams {
         RenderParams {

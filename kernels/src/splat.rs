@@ -1,7 +1,8 @@
-//! The `splat` pass: one invocation per splat record adds its rgb to the f32 image with a
-//! compare-and-swap loop on the bits (portable: core Vulkan 32-bit integer atomics, no
-//! float-atomic feature needed). The host drains this image into an f64 image periodically,
-//! so long renders lose no precision. On the CPU the host adds the same records directly.
+//! The `splat` pass: one invocation per splat record adds its rgb to an image, through a
+//! [`SplatSink`]. On the device the sink is the f32 image stored as bits, added to with a
+//! compare-and-swap loop (portable: core Vulkan 32-bit integer atomics, no float-atomic feature
+//! needed), which the host drains into an f64 image periodically so long renders lose no
+//! precision; on the host the same body adds to the f64 image directly.
 
 use shared::layout::unpack_contribution;
 use shared::mmlt::RenderParams;
@@ -11,6 +12,27 @@ use spirv_std::spirv;
 /// Number of splat records of a dispatch: one per distinct state of every chain.
 pub fn splat_records(params: &RenderParams) -> u32 {
     params.chains * params.states_per_chain()
+}
+
+/// Where splats go: an rgb image, three values per pixel.
+pub trait SplatSink {
+    /// Adds `value` to element `index` (pixel · 3 + channel).
+    fn add(&mut self, index: usize, value: f32);
+}
+
+/// The device's image: f32 values stored as bits, added to atomically.
+impl SplatSink for [u32] {
+    fn add(&mut self, index: usize, value: f32) {
+        atomic_add_f32(self, index, value);
+    }
+}
+
+/// The host's image: f64 sums (the CPU backend and the difftests).
+#[cfg(not(target_arch = "spirv"))]
+impl SplatSink for [f64] {
+    fn add(&mut self, index: usize, value: f32) {
+        self[index] += value as f64;
+    }
 }
 
 /// Adds `value` to the float stored as bits at `image[index]`.
@@ -40,8 +62,8 @@ fn atomic_add_f32(image: &mut [u32], index: usize, value: f32) {
     }
 }
 
-/// The kernel body for record `i`.
-pub fn splat(i: usize, params: &RenderParams, splats: &[Vec4], image: &mut [u32]) {
+/// The kernel body for record `i`: records without a pixel (`NO_PIXEL`) add nothing.
+pub fn splat<S: SplatSink + ?Sized>(i: usize, params: &RenderParams, splats: &[Vec4], image: &mut S) {
     if i as u32 >= splat_records(params) {
         return;
     }
@@ -50,9 +72,9 @@ pub fn splat(i: usize, params: &RenderParams, splats: &[Vec4], image: &mut [u32]
         return;
     }
     let base = pixel as usize * 3;
-    atomic_add_f32(image, base, rgb.x);
-    atomic_add_f32(image, base + 1, rgb.y);
-    atomic_add_f32(image, base + 2, rgb.z);
+    image.add(base, rgb.x);
+    image.add(base + 1, rgb.y);
+    image.add(base + 2, rgb.z);
 }
 
 /// Entry point: one invocation per splat record.
@@ -96,7 +118,7 @@ mod tests {
             let pixel = (state % pixels as u32) as usize;
             let value = 0.1 + 0.3 * ((state >> 8) as f32 / (1u32 << 24) as f32);
             record[0] = pack_contribution(Vec3::new(value, 0.0, 0.0), 1.0, pixel as u32);
-            splat(0, &params, &record, &mut image);
+            splat(0, &params, &record, &mut image[..]);
             exact[pixel] += value as f64;
             undrained[pixel] += value;
             if (i + 1) % per_drain == 0 || i + 1 == total {

@@ -38,12 +38,6 @@ impl Material {
     pub fn is_emissive(&self) -> bool {
         self.emission[0] > 0.0 || self.emission[1] > 0.0 || self.emission[2] > 0.0
     }
-
-    /// Whether the material reflects light at all.
-    #[inline]
-    pub fn reflects(&self) -> bool {
-        self.albedo[0] > 0.0 || self.albedo[1] > 0.0 || self.albedo[2] > 0.0
-    }
 }
 
 /// A sampled direction with the BSDF value and the solid-angle density; `pdf == 0` means the

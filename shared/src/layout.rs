@@ -30,6 +30,23 @@ pub fn unpack_contribution(packed: Vec4) -> (Vec3, u32) {
     (packed.truncate(), packed.w.to_bits())
 }
 
+/// The splat record of a state with contribution `v` (F, pixel bits), target `c` and
+/// expected-steps weight `w`: (F/c)·w — F/c is bounded, unlike w/c, which overflows for a
+/// denormal c — or an empty record ([`NO_PIXEL`]) when the state has no weight or is invalid
+/// (a NaN or infinite target is never splatted).
+#[inline]
+pub fn splat_record(v: Vec4, c: f32, w: f32) -> Vec4 {
+    use crate::acceptance::is_valid_target;
+    let (rgb, pixel) = unpack_contribution(v);
+    let value = (rgb / c) * w;
+    let finite = is_valid_target(value.x) && is_valid_target(value.y) && is_valid_target(value.z);
+    if w > 0.0 && c > 0.0 && is_valid_target(c) && finite {
+        pack_contribution(value, 1.0, pixel)
+    } else {
+        pack_contribution(Vec3::ZERO, 0.0, NO_PIXEL)
+    }
+}
+
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests {
     use super::*;

@@ -7,6 +7,7 @@
 //! - [`rng`]: the counter-based random numbers, keyed by (seed, chain, iteration, dimension);
 //! - [`mutation`]: Kelemen et al.'s small and large steps in primary sample space;
 //! - [`acceptance`]: the Metropolis–Hastings acceptance `a(y|x) = min(1, c(y)/c(x))`;
+//! - [`normalisation`]: the image normalisation b, from the bootstrap and every large step;
 //! - [`discrete`]: drawing an index in proportion to weights;
 //! - [`tree`]: the speculative mutation tree (seed §4, Eq. 2 and Eq. 3 generalised);
 //! - [`reject_chain`]: the reject chain of Byrd et al. (seed §3.3);
@@ -27,6 +28,7 @@ pub mod layout;
 pub mod light;
 pub mod mmlt;
 pub mod mutation;
+pub mod normalisation;
 pub mod path_tracer;
 pub mod rays;
 pub mod reject_chain;

@@ -54,9 +54,47 @@ pub fn emitted(emission: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     }
 }
 
+/// The light-selection CDF of triangles of the given emitted `power` (area × luminance of
+/// emission; ≤ 0 for non-emitters), and each triangle's light area density
+/// `pick(triangle) / area(triangle)` (0 for non-emitters). None when nothing emits. What
+/// [`pick_light`] searches, built on the host.
+#[cfg(not(target_arch = "spirv"))]
+pub fn light_cdf(power: &[f64], area: &[f32]) -> Option<(Vec<LightEntry>, Vec<f32>)> {
+    let total: f64 = power.iter().filter(|p| **p > 0.0).sum();
+    if !(total > 0.0) {
+        return None;
+    }
+    let mut lights = Vec::new();
+    let mut pdf = vec![0.0f32; power.len()];
+    let mut running = 0.0f64;
+    for (i, &p) in power.iter().enumerate() {
+        if p > 0.0 {
+            running += p;
+            lights.push(LightEntry { triangle: i as u32, cdf: (running / total) as f32 });
+            pdf[i] = (p / total / area[i] as f64) as f32;
+        }
+    }
+    lights.last_mut().expect("an emitter exists").cdf = 1.0;
+    Some((lights, pdf))
+}
+
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests {
     use super::*;
+
+    /// The CDF picks emitters in proportion to their power, skips the rest, ends at exactly 1,
+    /// and each emitter's area density integrates its pick probability over its area.
+    #[test]
+    fn light_cdf_is_proportional_to_power() {
+        let power = [0.0, 2.0, 0.0, 6.0, -1.0];
+        let area = [1.0, 0.5, 1.0, 3.0, 1.0];
+        let (lights, pdf) = light_cdf(&power, &area).unwrap();
+        assert_eq!(lights, vec![LightEntry { triangle: 1, cdf: 0.25 }, LightEntry { triangle: 3, cdf: 1.0 }]);
+        assert_eq!(pdf, vec![0.0, 0.5, 0.0, 0.25, 0.0]);
+        assert_eq!(pick_light(&lights, 2, 0.2), 0);
+        assert_eq!(pick_light(&lights, 2, 0.3), 1);
+        assert!(light_cdf(&[0.0, -1.0], &[1.0, 1.0]).is_none());
+    }
 
     #[test]
     fn picking_inverts_the_cdf() {

@@ -154,5 +154,25 @@ pub fn select_next_state(depth: u32, leaf_probability: &[f32; MAX_TREE_LEAVES], 
     state_after(depth, leaf)
 }
 
+/// Expected number of accepted steps among the tree's d: Σ over leaves of the leaf's
+/// probability times its acceptances (leaf h, a history of d decisions, has popcount(h)).
+#[inline]
+pub fn expected_acceptances(depth: u32, leaf_probability: &[f32; MAX_TREE_LEAVES]) -> f32 {
+    let mut accepted = 0.0f32;
+    let mut leaf = 0u32;
+    while leaf < 1u32 << depth {
+        // popcount by shifting (no bit-count intrinsic needed on the device)
+        let mut bits = leaf;
+        let mut ones = 0u32;
+        while bits > 0 {
+            ones += bits & 1;
+            bits >>= 1;
+        }
+        accepted += ones as f32 * leaf_probability[leaf as usize];
+        leaf += 1;
+    }
+    accepted
+}
+
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests;

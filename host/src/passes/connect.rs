@@ -5,7 +5,7 @@ use glam::Vec4;
 use kernels::connect::connect;
 use shared::mmlt::{PathInfo, PathVertex, RenderParams, Scene};
 
-use super::Pass;
+use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::gpu::GpuBuffers;
 
@@ -13,17 +13,17 @@ use crate::render::gpu::GpuBuffers;
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
     Pass::new(
         gpu,
-        "connect_cs",
+        Stage::Connect.entry_point(),
         &[
-            (&b.params, true),
-            (&b.cand_u, true),
-            (&b.nodes, true),
-            (&b.triangles, true),
-            (&b.materials, true),
-            (&b.lights, true),
-            (&b.vertices, true),
-            (&b.paths, true),
-            (&b.contributions, false),
+            Binding::Read(&b.params),
+            Binding::Read(&b.cand_u),
+            Binding::Read(&b.nodes),
+            Binding::Read(&b.triangles),
+            Binding::Read(&b.materials),
+            Binding::Read(&b.lights),
+            Binding::Read(&b.vertices),
+            Binding::Read(&b.paths),
+            Binding::Write(&b.contributions),
         ],
     )
 }

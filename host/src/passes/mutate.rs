@@ -4,7 +4,7 @@
 use kernels::mutate::mutate;
 use shared::mmlt::{ChainState, RenderParams};
 
-use super::Pass;
+use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::gpu::GpuBuffers;
 
@@ -12,13 +12,13 @@ use crate::render::gpu::GpuBuffers;
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
     Pass::new(
         gpu,
-        "mutate_cs",
+        Stage::Mutate.entry_point(),
         &[
-            (&b.params, true),
-            (&b.chains, true),
-            (&b.chain_u, true),
-            (&b.cand_u, false),
-            (&b.cand_depth, false),
+            Binding::Read(&b.params),
+            Binding::Read(&b.chains),
+            Binding::Read(&b.chain_u),
+            Binding::Write(&b.cand_u),
+            Binding::Write(&b.cand_depth),
         ],
     )
 }

@@ -6,7 +6,7 @@ use shared::bvh::{BvhNode, Triangle};
 use shared::mmlt::RenderParams;
 use shared::rays::Ray;
 
-use super::Pass;
+use super::{Binding, Pass};
 use crate::gpu::{Gpu, GpuError};
 
 /// The GPU pass over `buffers` = [params, nodes, triangles, rays, answers].
@@ -15,7 +15,13 @@ pub fn gpu(gpu: &Gpu, buffers: [&wgpu::Buffer; 5]) -> Result<Pass, GpuError> {
     Pass::new(
         gpu,
         "raycast_cs",
-        &[(params, true), (nodes, true), (triangles, true), (rays, true), (answers, false)],
+        &[
+            Binding::Read(params),
+            Binding::Read(nodes),
+            Binding::Read(triangles),
+            Binding::Read(rays),
+            Binding::Write(answers),
+        ],
     )
 }
 

@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 use shared::mmlt::{RenderParams, Scene};
 
-use super::Pass;
+use super::{Binding, Pass};
 use crate::gpu::{Gpu, GpuError};
 
 /// The GPU pass over `buffers` = [params, nodes, triangles, materials, lights, image].
@@ -14,12 +14,12 @@ pub fn gpu(gpu: &Gpu, buffers: [&wgpu::Buffer; 6]) -> Result<Pass, GpuError> {
         gpu,
         "reference_cs",
         &[
-            (params, true),
-            (nodes, true),
-            (triangles, true),
-            (materials, true),
-            (lights, true),
-            (image, false),
+            Binding::Read(params),
+            Binding::Read(nodes),
+            Binding::Read(triangles),
+            Binding::Read(materials),
+            Binding::Read(lights),
+            Binding::Write(image),
         ],
     )
 }

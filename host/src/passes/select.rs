@@ -5,7 +5,7 @@ use glam::Vec4;
 use kernels::select::select;
 use shared::mmlt::{ChainState, RenderParams};
 
-use super::Pass;
+use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::gpu::GpuBuffers;
 
@@ -13,15 +13,15 @@ use crate::render::gpu::GpuBuffers;
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
     Pass::new(
         gpu,
-        "select_cs",
+        Stage::Select.entry_point(),
         &[
-            (&b.params, true),
-            (&b.chains, false),
-            (&b.chain_u, false),
-            (&b.cand_u, true),
-            (&b.cand_depth, true),
-            (&b.contributions, true),
-            (&b.splats, false),
+            Binding::Read(&b.params),
+            Binding::Write(&b.chains),
+            Binding::Write(&b.chain_u),
+            Binding::Read(&b.cand_u),
+            Binding::Read(&b.cand_depth),
+            Binding::Read(&b.contributions),
+            Binding::Write(&b.splats),
         ],
     )
 }

@@ -1,30 +1,26 @@
 //! The `splat` pass: binds params and the splat records, and adds them to the f32 image (as
-//! bits, with a compare-and-swap loop). On the CPU the records go straight into the f64 image.
+//! bits, with a compare-and-swap loop). On the CPU the same body adds them to the f64 image.
 
 use glam::Vec4;
-use shared::layout::unpack_contribution;
+use kernels::splat::splat;
 use shared::mmlt::RenderParams;
 
-use super::Pass;
+use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::gpu::GpuBuffers;
 
 /// The GPU pass.
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
-    Pass::new(gpu, "splat_cs", &[(&b.params, true), (&b.splats, true), (&b.image, false)])
+    Pass::new(
+        gpu,
+        Stage::Splat.entry_point(),
+        &[Binding::Read(&b.params), Binding::Read(&b.splats), Binding::Write(&b.image)],
+    )
 }
 
-/// Adds the records to an f64 rgb image (what the GPU pass does, without the f32 stage).
+/// The same body on the CPU, over every record, into an f64 rgb image.
 pub fn cpu(params: &RenderParams, splats: &[Vec4], image: &mut [f64]) {
-    let records = kernels::splat::splat_records(params) as usize;
-    let pixels = (params.width * params.height) as usize;
-    for s in &splats[..records] {
-        let (rgb, pixel) = unpack_contribution(*s);
-        if (pixel as usize) < pixels {
-            let i = pixel as usize * 3;
-            image[i] += rgb.x as f64;
-            image[i + 1] += rgb.y as f64;
-            image[i + 2] += rgb.z as f64;
-        }
+    for i in 0..Stage::Splat.invocations(params) as usize {
+        splat(i, params, splats, image);
     }
 }

@@ -4,7 +4,7 @@
 use kernels::trace::trace;
 use shared::mmlt::{PathInfo, PathVertex, RenderParams, Scene};
 
-use super::Pass;
+use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
 use crate::render::gpu::GpuBuffers;
 
@@ -12,17 +12,17 @@ use crate::render::gpu::GpuBuffers;
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
     Pass::new(
         gpu,
-        "trace_cs",
+        Stage::Trace.entry_point(),
         &[
-            (&b.params, true),
-            (&b.cand_depth, true),
-            (&b.cand_u, true),
-            (&b.nodes, true),
-            (&b.triangles, true),
-            (&b.materials, true),
-            (&b.lights, true),
-            (&b.vertices, false),
-            (&b.paths, false),
+            Binding::Read(&b.params),
+            Binding::Read(&b.cand_depth),
+            Binding::Read(&b.cand_u),
+            Binding::Read(&b.nodes),
+            Binding::Read(&b.triangles),
+            Binding::Read(&b.materials),
+            Binding::Read(&b.lights),
+            Binding::Write(&b.vertices),
+            Binding::Write(&b.paths),
         ],
     )
 }

@@ -3,9 +3,9 @@
 use glam::Vec4;
 use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex, RenderParams};
 
-use super::{Backend, RenderError};
+use super::{Accumulation, Backend, RenderError};
 use crate::gpu::Gpu;
-use crate::passes::{self, Pass};
+use crate::passes::{self, Pass, Stage};
 use crate::scene::SceneData;
 use crate::timing::{time_passes, Clock};
 
@@ -35,7 +35,7 @@ pub struct GpuBuffers {
     pub paths: wgpu::Buffer,
     /// Packed contributions (float4).
     pub contributions: wgpu::Buffer,
-    /// Splat records (float4), 2^d per chain.
+    /// Splat records (float4), one per distinct state of each chain.
     pub splats: wgpu::Buffer,
     /// The f32 image as bits, rgb per pixel.
     pub image: wgpu::Buffer,
@@ -45,12 +45,11 @@ pub struct GpuBuffers {
 pub struct GpuBackend {
     gpu: Gpu,
     buffers: GpuBuffers,
+    /// One pass per stage, in [`Stage::ITERATION`] order.
     passes: [Pass; 5],
     pixels: usize,
     chains: u32,
-    candidates: u32,
     dims: u32,
-    splat_records: u32,
 }
 
 /// Total bytes of the render's device buffers (what `smlt render` reports as device memory).
@@ -105,7 +104,6 @@ impl GpuBackend {
         let n = params.chains as usize;
         let dims = params.dims as usize;
         let pixels = (params.width * params.height) as usize;
-        let splat_records = kernels::splat::splat_records(params);
         let buffers = GpuBuffers {
             params: gpu.storage_from("params", &[*params]),
             chain_u: gpu.storage_zeroed::<f32>("chain samples", n * dims),
@@ -120,7 +118,7 @@ impl GpuBackend {
                 .storage_zeroed::<PathVertex>("vertices", c * vertex_slots(params.max_depth) as usize),
             paths: gpu.storage_zeroed::<PathInfo>("path infos", c),
             contributions: gpu.storage_zeroed::<Vec4>("contributions", c),
-            splats: gpu.storage_zeroed::<Vec4>("splat records", splat_records as usize),
+            splats: gpu.storage_zeroed::<Vec4>("splat records", Stage::Splat.invocations(params) as usize),
             image: gpu.storage_zeroed::<u32>("image", pixels * 3),
         };
         let passes = [
@@ -130,16 +128,7 @@ impl GpuBackend {
             passes::select::gpu(&gpu, &buffers)?,
             passes::splat::gpu(&gpu, &buffers)?,
         ];
-        Ok(Self {
-            gpu,
-            buffers,
-            passes,
-            pixels,
-            chains: params.chains,
-            candidates: params.candidates,
-            dims: params.dims,
-            splat_records,
-        })
+        Ok(Self { gpu, buffers, passes, pixels, chains: params.chains, dims: params.dims })
     }
 
     /// The device.
@@ -152,12 +141,18 @@ impl GpuBackend {
         &self.buffers
     }
 
-    /// Runs the named passes (in order) with `params`, `threads` invocations each, and waits.
-    pub fn run(&mut self, params: &RenderParams, which: &[(usize, u32)]) -> Result<(), RenderError> {
+    /// Runs `stages` in order, each with its invocations for `params`, and waits.
+    pub fn run(&mut self, params: &RenderParams, stages: &[Stage]) -> Result<(), RenderError> {
+        let counts: Vec<(Stage, u32)> = stages.iter().map(|s| (*s, s.invocations(params))).collect();
+        self.dispatch(params, &counts)
+    }
+
+    /// Runs each stage with the given number of invocations, in order, and waits.
+    fn dispatch(&mut self, params: &RenderParams, stages: &[(Stage, u32)]) -> Result<(), RenderError> {
         self.gpu.queue.write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(params));
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        for &(pass, threads) in which {
-            self.passes[pass].encode(&self.gpu, &mut encoder, threads);
+        for &(stage, threads) in stages {
+            self.passes[stage.index()].encode(&self.gpu, &mut encoder, threads);
         }
         self.gpu.queue.submit([encoder.finish()]);
         self.gpu
@@ -166,45 +161,42 @@ impl GpuBackend {
             .map_err(|e| crate::gpu::GpuError::Readback(e.to_string()))?;
         Ok(())
     }
+
+    /// One iteration of every chain, as [`Backend::iterate`], with each stage timed
+    /// (`crate::timing`): device seconds per stage, in [`Stage::ITERATION`] order.
+    pub fn iterate_timed(&mut self, params: &RenderParams) -> Result<(PassTimes, Clock), RenderError> {
+        self.gpu.queue.write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(params));
+        let timed: Vec<(&Pass, u32)> =
+            Stage::ITERATION.iter().map(|s| (&self.passes[s.index()], s.invocations(params))).collect();
+        let (seconds, clock) = time_passes(&self.gpu, &timed)?;
+        let mut times = [0.0; 5];
+        times.copy_from_slice(&seconds);
+        Ok((times, clock))
+    }
 }
 
-/// Device seconds of each pass of one iteration, in pass order (mutate, trace, connect,
-/// select, splat).
+/// Device seconds of each stage of one iteration, in [`Stage::ITERATION`] order.
 pub type PassTimes = [f64; 5];
 
 impl GpuBackend {
-    /// One iteration of every chain, as [`Backend::iterate`], with each pass timed
-    /// (`crate::timing`).
-    pub fn iterate_timed(&mut self, params: &RenderParams) -> Result<(PassTimes, Clock), RenderError> {
-        self.gpu.queue.write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(params));
-        let timed = self.iteration().map(|(pass, threads)| (&self.passes[pass], threads));
-        let (seconds, clock) = time_passes(&self.gpu, &timed)?;
-        Ok(([seconds[0], seconds[1], seconds[2], seconds[3], seconds[4]], clock))
-    }
-
-    /// The passes of one iteration, in order, with their invocation counts.
-    fn iteration(&self) -> [(usize, u32); 5] {
-        let (c, n, r) = (self.candidates, self.chains, self.splat_records);
-        [(MUTATE, c), (TRACE, c), (CONNECT, c), (SELECT, n), (SPLAT, r)]
+    /// Traces `params.candidates` bootstrap samples on the device (mutate, trace and connect in
+    /// bootstrap mode) and returns their contributions. Renders bootstrap on the host
+    /// (`render::bootstrap`); this serves the difftests of the passes in bootstrap mode.
+    pub fn bootstrap(&mut self, params: &RenderParams) -> Result<Vec<Vec4>, RenderError> {
+        self.run(params, &[Stage::Mutate, Stage::Trace, Stage::Connect])?;
+        Ok(self.gpu.read(&self.buffers.contributions, params.candidates as usize)?)
     }
 }
 
-/// Index of each pass in [`GpuBackend::run`].
-pub const MUTATE: usize = 0;
-/// See [`MUTATE`].
-pub const TRACE: usize = 1;
-/// See [`MUTATE`].
-pub const CONNECT: usize = 2;
-/// See [`MUTATE`].
-pub const SELECT: usize = 3;
-/// See [`MUTATE`].
-pub const SPLAT: usize = 4;
-
 impl Backend for GpuBackend {
-    fn bootstrap(&mut self, params: &RenderParams) -> Result<Vec<Vec4>, RenderError> {
-        let k = params.candidates;
-        self.run(params, &[(MUTATE, k), (TRACE, k), (CONNECT, k)])?;
-        Ok(self.gpu.read(&self.buffers.contributions, k as usize)?)
+    /// Runs every pass once with no work (one workgroup whose invocations all return at once):
+    /// drivers such as lavapipe compile a pipeline's machine code at its first dispatch.
+    fn warm_up(&mut self, params: &RenderParams) -> Result<(), RenderError> {
+        let idle = RenderParams { candidates: 0, chains: 0, ..*params };
+        let all: Vec<(Stage, u32)> = Stage::ITERATION.iter().map(|s| (*s, 1)).collect();
+        self.dispatch(&idle, &all)?;
+        self.gpu.save_pipeline_cache();
+        Ok(())
     }
 
     fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError> {
@@ -215,37 +207,27 @@ impl Backend for GpuBackend {
     }
 
     fn iterate(&mut self, params: &RenderParams) -> Result<(), RenderError> {
-        self.run(params, &self.iteration())
+        self.run(params, &Stage::ITERATION)
     }
 
-    fn drain(&mut self, image: &mut [f64]) -> Result<f64, RenderError> {
+    fn drain(&mut self, acc: &mut Accumulation) -> Result<(), RenderError> {
         let bits: Vec<u32> = self.gpu.read(&self.buffers.image, self.pixels * 3)?;
-        for (acc, b) in image.iter_mut().zip(&bits) {
-            *acc += f32::from_bits(*b) as f64;
+        for (a, b) in acc.image.iter_mut().zip(&bits) {
+            *a += f32::from_bits(*b) as f64;
         }
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&self.buffers.image, 0, None);
         self.gpu.queue.submit([encoder.finish()]);
-        // The chains' step counts since the last drain, then reset (no kernel runs meanwhile).
+        // The chains' tallies since the last drain, then reset (no kernel runs meanwhile).
         let mut chains: Vec<ChainState> = self.gpu.read(&self.buffers.chains, self.chains as usize)?;
-        let mut steps = 0.0;
         for chain in &mut chains {
-            steps += chain.steps as f64;
-            chain.steps = 0.0;
+            acc.drain_chain(chain);
         }
         self.gpu.queue.write_buffer(&self.buffers.chains, 0, bytemuck::cast_slice(&chains));
-        Ok(steps)
-    }
-
-    fn chain_states(&mut self) -> Result<Vec<ChainState>, RenderError> {
-        Ok(self.gpu.read(&self.buffers.chains, self.chains as usize)?)
+        Ok(())
     }
 
     fn describe(&self) -> String {
         self.gpu.describe()
-    }
-
-    fn as_gpu(&mut self) -> Option<&mut GpuBackend> {
-        Some(self)
     }
 }

@@ -4,6 +4,7 @@
 pub mod atrium;
 pub mod cornell;
 pub mod nave;
+pub mod slit;
 pub mod sunblind;
 
 use base64::Engine;
@@ -33,6 +34,7 @@ pub fn generate(name: &str, tessellation: u32) -> Option<String> {
         "atrium" => Some(atrium::atrium(tessellation)),
         "nave" => Some(nave::nave(tessellation)),
         "sunblind" => Some(sunblind::sunblind(tessellation)),
+        "slit" => Some(slit::slit(tessellation)),
         _ => None,
     }
 }

@@ -302,3 +302,22 @@ fn a_depth_three_chain_samples_the_target() {
         assert!((share - expected).abs() < 0.01, "state {s}: {share} vs {expected}");
     }
 }
+
+/// The expected acceptances of the tree equal the brute-force chain's: Σ over decision
+/// sequences of their probability times their number of acceptances.
+#[test]
+fn expected_acceptances_match_enumeration() {
+    for depth in 1..=MAX_TREE_DEPTH {
+        let mut accept = [0.0f32; MAX_TREE_CANDIDATES];
+        for (k, a) in accept.iter_mut().enumerate() {
+            *a = rand(depth, k as u32, 7);
+        }
+        let (p, _) = run(depth, &accept);
+        let (ref_p, _) =
+            enumerate(depth, |level, history, _| accept[candidate_index(level, history) as usize] as f64);
+        let expected: f64 =
+            ref_p.iter().enumerate().map(|(leaf, q)| q * (leaf as u32).count_ones() as f64).sum();
+        let got = expected_acceptances(depth, &p) as f64;
+        assert!((got - expected).abs() < 1e-5 * depth as f64, "d={depth}: {got} vs {expected}");
+    }
+}

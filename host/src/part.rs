@@ -1,0 +1,389 @@
+//! Part files: what `smlt render --shard K/N` writes and `smlt merge` combines.
+//!
+//! A part is an OpenEXR file. Its `R`, `G`, `B` channels hold the part's own normalised image
+//! (to look at); the exact f64 splat sums S are stored bit for bit as two `u32` channels per
+//! colour (`S.R.hi`, `S.R.lo`, …); a layer attribute `smltPart` holds, as JSON, everything
+//! else a merge needs: the render's identity (scene and its hash, view, resolution, depth,
+//! seed, method, chain count, bootstrap, mutation schedule, budget, shard count), the shard
+//! index, W, the acceptance and NaN/Inf tallies, the candidates traced, and the moments of the
+//! bootstrap's and the large steps' targets (f64 values as their bit patterns, so nothing is
+//! rounded on the way). Merging adds the accumulations in shard order and normalises once:
+//! the image the unsplit render gives, up to f64 rounding.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use shared::normalisation::Moments;
+
+use crate::render::{Accumulation, Rendered, Settings, Shard, Stats};
+
+/// The `format` value of a part written by this version.
+pub const FORMAT: &str = "smlt-part-1";
+/// The layer attribute holding the part's JSON.
+const ATTRIBUTE: &str = "smltPart";
+
+/// What makes two parts parts of the same render.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Identity {
+    /// The scene's name.
+    pub scene: String,
+    /// A hash of the scene's files (the glTF and its buffers).
+    pub scene_hash: String,
+    /// The camera.
+    pub view: u32,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Maximum bounces.
+    pub max_depth: u32,
+    /// Seed.
+    pub seed: u32,
+    /// Method.
+    pub method: String,
+    /// Candidates per iteration of the whole render (sets the chain count).
+    pub candidates: u32,
+    /// Bootstrap samples.
+    pub bootstrap_samples: u32,
+    /// Mutation schedule: "s1 s2 p_large".
+    pub mutation: String,
+    /// Budget: "mpp M" or "seconds T".
+    pub budget: String,
+    /// Shards the render was split into.
+    pub shard_count: u32,
+}
+
+impl Identity {
+    /// The identity of a render of `scene` (name, hash, view) with `s`.
+    pub fn new(scene: &str, scene_hash: &str, view: u32, s: &Settings) -> Self {
+        Identity {
+            scene: scene.to_string(),
+            scene_hash: scene_hash.to_string(),
+            view,
+            width: s.width,
+            height: s.height,
+            max_depth: s.max_depth,
+            seed: s.seed,
+            method: s.method.to_string(),
+            candidates: s.candidates,
+            bootstrap_samples: s.bootstrap_samples,
+            mutation: format!("{} {} {}", s.mutation.s1, s.mutation.s2, s.mutation.p_large),
+            budget: match s.budget {
+                crate::render::Budget::Seconds(t) => format!("seconds {t}"),
+                crate::render::Budget::MutationsPerPixel(m) => format!("mpp {m}"),
+            },
+            shard_count: s.shard.count,
+        }
+    }
+
+    /// The first field in which `self` and `other` differ, as "name: a vs b".
+    fn difference(&self, other: &Identity) -> Option<String> {
+        let a = serde_json::to_value(self).ok()?;
+        let b = serde_json::to_value(other).ok()?;
+        let (a, b) = (a.as_object()?, b.as_object()?);
+        let names = [
+            "scene",
+            "scene_hash",
+            "view",
+            "width",
+            "height",
+            "max_depth",
+            "seed",
+            "method",
+            "candidates",
+            "bootstrap_samples",
+            "mutation",
+            "budget",
+            "shard_count",
+        ];
+        names.iter().find(|n| a.get(**n) != b.get(**n)).map(|n| {
+            let label = n.replace('_', " ");
+            format!("{label} {} vs {}", a[*n], b[*n])
+        })
+    }
+}
+
+/// f64 values as their bits (hex), so that JSON keeps them exactly.
+mod bits {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&format!("{:016x}", v.to_bits()))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        let s = String::deserialize(d)?;
+        u64::from_str_radix(&s, 16).map(f64::from_bits).map_err(serde::de::Error::custom)
+    }
+}
+
+/// Moments as exact JSON.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+struct ExactMoments {
+    count: u64,
+    #[serde(with = "bits")]
+    sum: f64,
+    #[serde(with = "bits")]
+    sum_sq: f64,
+}
+
+impl From<Moments> for ExactMoments {
+    fn from(m: Moments) -> Self {
+        ExactMoments { count: m.count, sum: m.sum, sum_sq: m.sum_sq }
+    }
+}
+
+impl From<ExactMoments> for Moments {
+    fn from(m: ExactMoments) -> Self {
+        Moments { count: m.count, sum: m.sum, sum_sq: m.sum_sq }
+    }
+}
+
+/// The JSON header of a part.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct Header {
+    format: String,
+    identity: Identity,
+    shard: u32,
+    iterations: u64,
+    render_seconds: f64,
+    device: String,
+    #[serde(with = "bits")]
+    weight: f64,
+    #[serde(with = "bits")]
+    accepted: f64,
+    invalid: u64,
+    candidates: u64,
+    large_steps: ExactMoments,
+    bootstrap: ExactMoments,
+}
+
+/// A part read back.
+#[derive(Clone, Debug)]
+pub struct Part {
+    /// Where it was read from.
+    pub path: PathBuf,
+    /// The render it belongs to.
+    pub identity: Identity,
+    /// Its shard index (1-based).
+    pub shard: u32,
+    /// Iterations it ran.
+    pub iterations: u64,
+    /// Its render seconds.
+    pub render_seconds: f64,
+    /// The device it ran on.
+    pub device: String,
+    /// Its accumulation.
+    pub accumulation: Accumulation,
+    /// The bootstrap's moments (the same in every part of a render).
+    pub bootstrap: Moments,
+}
+
+/// Why a part could not be written, read or merged (one line each).
+#[derive(Debug, thiserror::Error)]
+pub enum PartError {
+    /// The file cannot be read as EXR.
+    #[error("cannot read {0}: {1}")]
+    Read(String, String),
+    /// An EXR without a part header.
+    #[error(
+        "{0} is not an smlt part file (no {ATTRIBUTE} header; write parts with smlt render --shard K/N)"
+    )]
+    NotAPart(String),
+    /// A malformed header or channels.
+    #[error("{0} is a damaged part file: {1}")]
+    Damaged(String, String),
+    /// The file cannot be written.
+    #[error("cannot write {0}: {1}")]
+    Write(String, String),
+    /// Merge needs at least one part.
+    #[error("no part files given")]
+    Empty,
+    /// Two parts of different renders.
+    #[error("{a} and {b} are parts of different renders ({difference})")]
+    Mismatch {
+        /// One part.
+        a: String,
+        /// The other.
+        b: String,
+        /// The first difference.
+        difference: String,
+    },
+    /// The same shard twice.
+    #[error("shard {shard} is given twice: {a} and {b}")]
+    Duplicate {
+        /// The shard, K/N.
+        shard: String,
+        /// One file.
+        a: String,
+        /// The other.
+        b: String,
+    },
+    /// A shard is missing.
+    #[error("shard {0} is missing: a merge needs every shard 1..{1} of the render")]
+    Missing(String, u32),
+}
+
+/// Writes `r` (a shard's render) as a part file at `path` (to a temporary file renamed into
+/// place).
+pub fn write_part(
+    path: &Path,
+    identity: &Identity,
+    shard: Shard,
+    r: &Rendered,
+    device: &str,
+) -> Result<(), PartError> {
+    use exr::prelude::*;
+    let fail = |e: &dyn std::fmt::Display| PartError::Write(path.display().to_string(), e.to_string());
+    let header = Header {
+        format: FORMAT.to_string(),
+        identity: identity.clone(),
+        shard: shard.index,
+        iterations: r.stats.iterations,
+        render_seconds: r.stats.render_seconds,
+        device: device.to_string(),
+        weight: r.accumulation.weight,
+        accepted: r.accumulation.accepted,
+        invalid: r.accumulation.invalid,
+        candidates: r.accumulation.candidates,
+        large_steps: r.accumulation.large_steps.into(),
+        bootstrap: r.bootstrap.into(),
+    };
+    let json = serde_json::to_string(&header).map_err(|e| fail(&e))?;
+    let pixels = (r.width * r.height) as usize;
+    let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
+    for (i, name) in ["R", "G", "B"].iter().enumerate() {
+        channels
+            .push(AnyChannel::new(*name, FlatSamples::F32((0..pixels).map(|p| r.rgb[p * 3 + i]).collect())));
+        let sums: Vec<u64> = (0..pixels).map(|p| r.accumulation.image[p * 3 + i].to_bits()).collect();
+        channels.push(AnyChannel::new(
+            format!("S.{name}.hi").as_str(),
+            FlatSamples::U32(sums.iter().map(|b| (b >> 32) as u32).collect()),
+        ));
+        channels.push(AnyChannel::new(
+            format!("S.{name}.lo").as_str(),
+            FlatSamples::U32(sums.iter().map(|b| *b as u32).collect()),
+        ));
+    }
+    let mut attributes = LayerAttributes::named("part");
+    let text = Text::new_or_none(&json).ok_or_else(|| fail(&"the part header is not EXR text"))?;
+    attributes.other.insert(Text::from(ATTRIBUTE), AttributeValue::Text(text));
+    let layer = Layer::new(
+        (r.width as usize, r.height as usize),
+        attributes,
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(channels.into()),
+    );
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    Image::from_layer(layer).write().to_file(&tmp).map_err(|e| fail(&e))?;
+    std::fs::rename(&tmp, path).map_err(|e| fail(&e))
+}
+
+/// Reads a part file.
+pub fn read_part(path: &Path) -> Result<Part, PartError> {
+    use exr::prelude::*;
+    let shown = path.display().to_string();
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| PartError::Read(shown.clone(), e.to_string()))?;
+    let damaged = |why: &str| PartError::Damaged(shown.clone(), why.to_string());
+    let layer = image.layer_data.first().ok_or_else(|| PartError::NotAPart(shown.clone()))?;
+    let Some(AttributeValue::Text(text)) = layer.attributes.other.get(&Text::from(ATTRIBUTE)) else {
+        return Err(PartError::NotAPart(shown));
+    };
+    let header: Header = serde_json::from_str(&text.to_string()).map_err(|e| damaged(&e.to_string()))?;
+    if header.format != FORMAT {
+        return Err(damaged(&format!("format {} (this smlt reads {FORMAT})", header.format)));
+    }
+    let id = &header.identity;
+    let pixels = id.width as usize * id.height as usize;
+    if layer.size.width() != id.width as usize || layer.size.height() != id.height as usize {
+        return Err(damaged("its image size is not the header's"));
+    }
+    let by_name: HashMap<String, &FlatSamples> =
+        layer.channel_data.list.iter().map(|c| (c.name.to_string(), &c.sample_data)).collect();
+    let words = |name: &str| -> std::result::Result<&Vec<u32>, PartError> {
+        match by_name.get(name) {
+            Some(FlatSamples::U32(v)) if v.len() == pixels => Ok(v),
+            _ => Err(damaged(&format!("no u32 channel {name}"))),
+        }
+    };
+    let mut sums = vec![0.0f64; pixels * 3];
+    for (i, name) in ["R", "G", "B"].iter().enumerate() {
+        let (hi, lo) = (words(&format!("S.{name}.hi"))?, words(&format!("S.{name}.lo"))?);
+        for p in 0..pixels {
+            sums[p * 3 + i] = f64::from_bits(((hi[p] as u64) << 32) | lo[p] as u64);
+        }
+    }
+    if header.shard == 0 || header.shard > id.shard_count {
+        return Err(damaged(&format!("shard {} of {}", header.shard, id.shard_count)));
+    }
+    Ok(Part {
+        path: path.to_path_buf(),
+        identity: header.identity,
+        shard: header.shard,
+        iterations: header.iterations,
+        render_seconds: header.render_seconds,
+        device: header.device,
+        accumulation: Accumulation {
+            image: sums,
+            weight: header.weight,
+            accepted: header.accepted,
+            invalid: header.invalid,
+            candidates: header.candidates,
+            large_steps: header.large_steps.into(),
+        },
+        bootstrap: header.bootstrap.into(),
+    })
+}
+
+/// Merges the parts of one render into its image: checks that they are every shard of the
+/// same render exactly once, adds their accumulations in shard order and normalises once.
+pub fn merge(parts: &[Part]) -> Result<Rendered, PartError> {
+    let first = parts.first().ok_or(PartError::Empty)?;
+    let show = |p: &Part| p.path.display().to_string();
+    for p in &parts[1..] {
+        if let Some(difference) = first.identity.difference(&p.identity) {
+            return Err(PartError::Mismatch { a: show(first), b: show(p), difference });
+        }
+        if p.bootstrap != first.bootstrap {
+            return Err(PartError::Mismatch {
+                a: show(first),
+                b: show(p),
+                difference: "their bootstraps differ: were they rendered by different smlt versions?".into(),
+            });
+        }
+    }
+    let count = first.identity.shard_count;
+    let mut by_shard: Vec<Option<&Part>> = vec![None; count as usize];
+    for p in parts {
+        let slot = &mut by_shard[(p.shard - 1) as usize];
+        if let Some(other) = slot {
+            return Err(PartError::Duplicate {
+                shard: format!("{}/{count}", p.shard),
+                a: show(other),
+                b: show(p),
+            });
+        }
+        *slot = Some(p);
+    }
+    if let Some(k) = by_shard.iter().position(Option::is_none) {
+        return Err(PartError::Missing(format!("{}/{count}", k + 1), count));
+    }
+    let id = &first.identity;
+    let mut acc = Accumulation::new(id.width as usize * id.height as usize);
+    let mut stats = Stats::default();
+    for p in by_shard.into_iter().flatten() {
+        acc.merge(&p.accumulation);
+        stats.iterations = stats.iterations.max(p.iterations);
+        stats.render_seconds = stats.render_seconds.max(p.render_seconds);
+    }
+    Ok(Rendered::from_accumulation(id.width, id.height, id.max_depth, first.bootstrap, acc, stats))
+}

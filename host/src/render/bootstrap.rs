@@ -1,0 +1,98 @@
+//! The bootstrap: independent samples of uniform (u, depth) give the first estimate of the
+//! normalisation b and the chains' start states, drawn in proportion to their targets c.
+//!
+//! It always runs on the host, with the kernel bodies on a thread pool, in a fixed order: it is
+//! a function of the scene and the settings alone, so every shard of a render — on any device,
+//! with any thread count, on any machine — computes the very same bootstrap (the part files
+//! carry its moments, and `smlt merge` checks that they agree).
+
+use std::time::Instant;
+
+use glam::Vec4;
+use rayon::prelude::*;
+use shared::mmlt::{
+    bootstrap_sample, luminance, ChainState, RenderParams, BOOTSTRAP_ITERATION, MODE_BOOTSTRAP,
+};
+use shared::normalisation::{bootstrap_depth, normalisation_sample, Moments};
+use shared::rng::{self, RngKey};
+
+use super::cpu::CpuBuffers;
+use super::{base_params, RenderError, Settings};
+use crate::scene::SceneData;
+
+/// Samples traced per task of the pool.
+const BATCH: u32 = 4096;
+
+/// The bootstrap of a render, for the chains of its shard.
+#[derive(Clone, Debug)]
+pub struct Bootstrap {
+    /// Moments of the bootstrap samples' targets.
+    pub moments: Moments,
+    /// The shard's chains' start samples, SoA (`p + i·N`).
+    pub chain_u: Vec<f32>,
+    /// The shard's chains' start states.
+    pub chains: Vec<ChainState>,
+    /// Wall seconds it took.
+    pub seconds: f64,
+}
+
+/// Traces `max(bootstrap samples, chains)` samples on the current rayon pool and starts the
+/// shard's chains.
+pub fn bootstrap(scene: &SceneData, s: &Settings) -> Result<Bootstrap, RenderError> {
+    let start = Instant::now();
+    let base = base_params(scene, s);
+    let total = s.bootstrap_samples.max(s.chains());
+    let batches: Vec<u32> = (0..total.div_ceil(BATCH)).collect();
+    let contributions: Vec<Vec4> = {
+        batches
+            .par_iter()
+            .map(|&i| {
+                let offset = i * BATCH;
+                let params = RenderParams {
+                    mode: MODE_BOOTSTRAP,
+                    chains: 1,
+                    candidates: BATCH.min(total - offset),
+                    sample_offset: offset,
+                    ..base
+                };
+                CpuBuffers::new(scene, &params).bootstrap(&params)
+            })
+            .collect::<Vec<Vec<Vec4>>>()
+            .concat()
+    };
+    let mut moments = Moments::default();
+    let mut cdf = Vec::with_capacity(contributions.len());
+    let mut running = 0.0f64;
+    for v in &contributions {
+        let c = luminance(v.truncate());
+        moments.add(c);
+        running += normalisation_sample(c) as f64;
+        cdf.push(running);
+    }
+    if !(running > 0.0) {
+        return Err(RenderError::NothingVisible(total as u64));
+    }
+    let shard = s.shard_chains();
+    let n = base.chains;
+    let mut chain_u = vec![0.0f32; (n * base.dims) as usize];
+    let mut chains = vec![ChainState::default(); n as usize];
+    for p in 0..n {
+        let key = RngKey {
+            seed: s.seed,
+            chain: shard.start + p,
+            iteration: BOOTSTRAP_ITERATION,
+            dimension: rng::dimension(rng::STREAM_CONTROL, rng::CONTROL_BOOTSTRAP_PICK),
+        };
+        let target = rng::uniform(key) as f64 * running;
+        let g = cdf.partition_point(|&x| x <= target).min(cdf.len() - 1) as u32;
+        for dim in 0..base.dims {
+            chain_u[(p + dim * n) as usize] = bootstrap_sample(s.seed, g, dim);
+        }
+        chains[p as usize] = ChainState {
+            contribution: contributions[g as usize].to_array(),
+            depth: bootstrap_depth(g, s.max_depth),
+            ..Default::default()
+        };
+    }
+    Ok(Bootstrap { moments, chain_u, chains, seconds: start.elapsed().as_secs_f64() })
+}

@@ -1,0 +1,266 @@
+//! The render loop: compile the kernels, bootstrap, then iterations of mutate → trace →
+//! connect → select → splat on a [`Backend`], drained into an [`Accumulation`] every
+//! [`DRAIN_EVERY`] iterations. The image is `b · pixels · S_j / W`, where S_j is the sum of the
+//! splats in pixel j, W the total splat weight, and b the pooled estimate of the bootstrap's
+//! and every large step's targets (`shared::normalisation`).
+
+use std::time::Instant;
+
+use shared::mmlt::RenderParams;
+use shared::normalisation::{estimate, Estimate, Moments};
+
+use super::bootstrap::bootstrap;
+use super::{base_params, Accumulation, Backend, Budget, RenderError, Settings};
+use crate::scene::SceneData;
+
+/// What a render measured.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Chains N (of this shard).
+    pub chains: u32,
+    /// Iterations run.
+    pub iterations: u64,
+    /// Candidate paths traced (the seed's "mutations").
+    pub candidates: u64,
+    /// Markov-chain steps advanced (total splat weight W).
+    pub steps: f64,
+    /// Bootstrap samples traced.
+    pub bootstrap_samples: u64,
+    /// Large-step candidates whose targets refined b.
+    pub large_steps: u64,
+    /// The normalisation b (bootstrap and large steps pooled).
+    pub b: f64,
+    /// Standard error of b, from the pooled samples' spread.
+    pub b_standard_error: f64,
+    /// Expected accepted steps / steps.
+    pub acceptance: f64,
+    /// Candidates rejected because F was NaN or infinite (never splatted).
+    pub invalid: u64,
+    /// Seconds spent preparing the device's kernels (compilation) before the clock started.
+    pub compile_seconds: f64,
+    /// Seconds of the bootstrap.
+    pub bootstrap_seconds: f64,
+    /// Seconds of the iterations (what `--time` counts).
+    pub render_seconds: f64,
+}
+
+impl Stats {
+    /// b's standard error relative to b.
+    pub fn b_relative_standard_error(&self) -> f64 {
+        if self.b > 0.0 {
+            self.b_standard_error / self.b
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+/// A finished render (or a part of one), with what it needs to be merged with others.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+    /// Linear rgb, row-major from the top-left pixel.
+    pub rgb: Vec<f32>,
+    /// Measurements.
+    pub stats: Stats,
+    /// The splat sums and tallies the image was computed from.
+    pub accumulation: Accumulation,
+    /// The bootstrap samples' moments.
+    pub bootstrap: Moments,
+}
+
+/// b of a render with these bootstrap moments and accumulation.
+pub fn normalisation(max_depth: u32, bootstrap: &Moments, acc: &Accumulation) -> Estimate {
+    estimate(max_depth, &bootstrap.merged(acc.large_steps))
+}
+
+impl Rendered {
+    /// The normalised image `b · pixels · S_j / W` of an accumulation; `stats` gets b, its
+    /// error, the steps, acceptance and NaN/Inf counts from it.
+    pub fn from_accumulation(
+        width: u32,
+        height: u32,
+        max_depth: u32,
+        bootstrap: Moments,
+        accumulation: Accumulation,
+        mut stats: Stats,
+    ) -> Rendered {
+        let b = normalisation(max_depth, &bootstrap, &accumulation);
+        let pixels = width as f64 * height as f64;
+        let w = accumulation.weight;
+        let scale = if w > 0.0 { b.b * pixels / w } else { 0.0 };
+        stats.b = b.b;
+        stats.b_standard_error = b.standard_error;
+        stats.bootstrap_samples = bootstrap.count;
+        stats.large_steps = accumulation.large_steps.count;
+        stats.steps = w;
+        stats.candidates = accumulation.candidates;
+        stats.acceptance = accumulation.accepted / w.max(1e-30);
+        stats.invalid = accumulation.invalid;
+        Rendered {
+            width,
+            height,
+            rgb: accumulation.image.iter().map(|v| (v * scale) as f32).collect(),
+            stats,
+            accumulation,
+            bootstrap,
+        }
+    }
+}
+
+/// Watches a render: progress, an early stop (Ctrl-C), periodic checkpoints of the image so
+/// far. A closure `FnMut(f64)` is an observer of progress only.
+pub trait Observer {
+    /// The fraction of the budget used, after each drain.
+    fn progress(&mut self, _fraction: f64) {}
+    /// Whether the render should end now (the image so far is returned as the result).
+    fn stop_requested(&self) -> bool {
+        false
+    }
+    /// Whether a checkpoint is due `elapsed` seconds into the iterations.
+    fn checkpoint_due(&mut self, _elapsed: f64) -> bool {
+        false
+    }
+    /// The image so far, normalised like a finished render.
+    fn checkpoint(&mut self, _image: &Rendered) {}
+}
+
+impl<F: FnMut(f64)> Observer for F {
+    fn progress(&mut self, fraction: f64) {
+        self(fraction)
+    }
+}
+
+/// Iterations between drains of the backend's image and tallies.
+pub const DRAIN_EVERY: u64 = 8;
+
+/// A render in progress: bootstrapped chains on a backend, advanced an iteration at a time, so
+/// that several methods can be advanced in turns (the bench interleaves them).
+pub struct Renderer<'a> {
+    backend: &'a mut dyn Backend,
+    settings: Settings,
+    base: RenderParams,
+    bootstrap: Moments,
+    acc: Accumulation,
+    stats: Stats,
+    pending: u64,
+}
+
+impl<'a> Renderer<'a> {
+    /// Prepares the backend's kernels, bootstraps (on the host: the same for every shard and
+    /// device) and starts this shard's chains. None of it counts as render time.
+    pub fn start(scene: &SceneData, s: &Settings, backend: &'a mut dyn Backend) -> Result<Self, RenderError> {
+        let base = base_params(scene, s);
+        let compile = Instant::now();
+        backend.warm_up(&base)?;
+        let compile_seconds = compile.elapsed().as_secs_f64();
+        let boot = match backend.thread_pool() {
+            Some(pool) => pool.install(|| bootstrap(scene, s))?,
+            None => bootstrap(scene, s)?,
+        };
+        backend.start(&boot.chain_u, &boot.chains)?;
+        let stats = Stats {
+            chains: base.chains,
+            compile_seconds,
+            bootstrap_seconds: boot.seconds,
+            ..Default::default()
+        };
+        let pixels = s.width as usize * s.height as usize;
+        Ok(Self {
+            backend,
+            settings: s.clone(),
+            base,
+            bootstrap: boot.moments,
+            acc: Accumulation::new(pixels),
+            stats,
+            pending: 0,
+        })
+    }
+
+    /// One iteration of every chain; its wall time is added to the render time.
+    pub fn iterate(&mut self) -> Result<(), RenderError> {
+        let start = Instant::now();
+        let params = self.next_params();
+        self.backend.iterate(&params)?;
+        self.stats.iterations += 1;
+        self.acc.candidates += self.base.candidates as u64;
+        self.pending += 1;
+        if self.pending >= DRAIN_EVERY {
+            self.drain()?;
+        }
+        self.stats.render_seconds += start.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Moves the backend's splats and tallies into the accumulation.
+    fn drain(&mut self) -> Result<(), RenderError> {
+        self.backend.drain(&mut self.acc)?;
+        self.pending = 0;
+        Ok(())
+    }
+
+    /// The parameters of the next iteration.
+    pub fn next_params(&self) -> RenderParams {
+        RenderParams { iteration: self.stats.iterations as u32, ..self.base }
+    }
+
+    /// Iterations, render time and the other timings so far (b, steps and counts are filled
+    /// in by [`Renderer::snapshot`]).
+    pub fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    /// The image so far, with b, acceptance and NaN/Inf counts (drains the backend; its time
+    /// counts as render time).
+    pub fn snapshot(&mut self) -> Result<Rendered, RenderError> {
+        let start = Instant::now();
+        self.drain()?;
+        self.stats.render_seconds += start.elapsed().as_secs_f64();
+        let s = &self.settings;
+        Ok(Rendered::from_accumulation(
+            s.width,
+            s.height,
+            s.max_depth,
+            self.bootstrap,
+            self.acc.clone(),
+            self.stats.clone(),
+        ))
+    }
+}
+
+/// Renders `scene` on `backend`, reporting to `observer`.
+pub fn render(
+    scene: &SceneData,
+    s: &Settings,
+    backend: &mut dyn Backend,
+    mut observer: impl Observer,
+) -> Result<Rendered, RenderError> {
+    let mut r = Renderer::start(scene, s, backend)?;
+    let iterations = match s.budget {
+        Budget::MutationsPerPixel(m) => s.iterations_for(m),
+        Budget::Seconds(_) => u64::MAX,
+    };
+    loop {
+        r.iterate()?;
+        let stats = r.stats();
+        let fraction = match s.budget {
+            Budget::Seconds(t) => stats.render_seconds / t,
+            Budget::MutationsPerPixel(_) => stats.iterations as f64 / iterations as f64,
+        };
+        if fraction >= 1.0 || observer.stop_requested() {
+            break;
+        }
+        if stats.iterations.is_multiple_of(DRAIN_EVERY) {
+            observer.progress(fraction.min(1.0));
+            if observer.checkpoint_due(stats.render_seconds) {
+                let image = r.snapshot()?;
+                observer.checkpoint(&image);
+            }
+        }
+    }
+    observer.progress(1.0);
+    r.snapshot()
+}

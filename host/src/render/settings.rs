@@ -1,0 +1,172 @@
+//! What defines a render: resolution, depth, seed, method, budget, chain count, and which
+//! part of the chains this process renders (`--shard K/N`).
+
+use std::ops::Range;
+use std::str::FromStr;
+
+use shared::mmlt::{sample_dimensions, RenderParams, METHOD_REJECT_CHAIN, METHOD_TREE, MODE_CHAINS};
+use shared::mutation::MutationParams;
+
+use super::Method;
+use crate::scene::SceneData;
+
+/// When to stop.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Budget {
+    /// Seconds of iterations (after the bootstrap and the kernels' compilation).
+    Seconds(f64),
+    /// Candidates traced per pixel (pbrt's mutations per pixel), counted over the whole render
+    /// (all shards): a shard runs the iterations the unsplit render runs.
+    MutationsPerPixel(f64),
+}
+
+/// Part `index` (1-based) of `count` equal parts of a render's chains.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// K in 1..=N.
+    pub index: u32,
+    /// N.
+    pub count: u32,
+}
+
+impl Shard {
+    /// The whole render.
+    pub const WHOLE: Shard = Shard { index: 1, count: 1 };
+
+    /// The global chain indices of this part of `chains` chains: contiguous, in order, of
+    /// sizes differing by at most one.
+    pub fn chains(&self, chains: u32) -> Range<u32> {
+        let split = |k: u32| (k as u64 * chains as u64 / self.count as u64) as u32;
+        split(self.index - 1)..split(self.index)
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+impl FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let parsed =
+            s.split_once('/').and_then(|(k, n)| Some((k.parse::<u32>().ok()?, n.parse::<u32>().ok()?)));
+        match parsed {
+            Some((k, n)) if n >= 1 && (1..=n).contains(&k) => Ok(Shard { index: k, count: n }),
+            _ => Err(format!("'{s}' is not a shard: use K/N with 1 ≤ K ≤ N, e.g. 2/4")),
+        }
+    }
+}
+
+/// Everything that defines a render.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Maximum bounces (pbrt's maxdepth; paths of up to max_depth + 1 segments).
+    pub max_depth: u32,
+    /// Seed of every random number.
+    pub seed: u32,
+    /// Parallelisation.
+    pub method: Method,
+    /// When to stop.
+    pub budget: Budget,
+    /// Candidates traced per iteration by the whole render (divided among chains).
+    pub candidates: u32,
+    /// Bootstrap samples.
+    pub bootstrap_samples: u32,
+    /// Mutation schedule.
+    pub mutation: MutationParams,
+    /// The part of the chains this process renders.
+    pub shard: Shard,
+}
+
+impl Settings {
+    /// Number of chains of the whole render: the candidates per iteration divided by the
+    /// candidates per chain.
+    pub fn chains(&self) -> u32 {
+        (self.candidates / self.method.candidates_per_chain()).max(1)
+    }
+
+    /// Global indices of the chains this shard renders.
+    pub fn shard_chains(&self) -> Range<u32> {
+        self.shard.chains(self.chains())
+    }
+
+    /// Iterations a `--mutations-per-pixel` budget runs: as many as the whole render needs to
+    /// trace that many candidates per pixel (the same for every shard).
+    pub fn iterations_for(&self, mutations_per_pixel: f64) -> u64 {
+        let per_iteration = (self.chains() * self.method.candidates_per_chain()) as f64;
+        let pixels = self.width as f64 * self.height as f64;
+        ((mutations_per_pixel * pixels / per_iteration).ceil() as u64).max(1)
+    }
+}
+
+/// The parameters shared by every dispatch of this shard's chains.
+pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
+    let chains = s.shard_chains();
+    let n = chains.end - chains.start;
+    RenderParams {
+        camera: scene.camera(s.width, s.height),
+        mutation: s.mutation,
+        width: s.width,
+        height: s.height,
+        max_depth: s.max_depth,
+        dims: sample_dimensions(s.max_depth),
+        chains: n,
+        candidates: n * s.method.candidates_per_chain(),
+        tree_depth: match s.method {
+            Method::Tree(d) => d,
+            Method::RejectChain(_) => 1,
+        },
+        iteration: 0,
+        seed: s.seed,
+        light_count: scene.lights.len() as u32,
+        mode: MODE_CHAINS,
+        sample_offset: 0,
+        epsilon: scene.epsilon(),
+        method: match s.method {
+            Method::Tree(_) => METHOD_TREE,
+            Method::RejectChain(_) => METHOD_REJECT_CHAIN,
+        },
+        reject_length: match s.method {
+            Method::RejectChain(l) => l,
+            Method::Tree(_) => 0,
+        },
+        chain_offset: chains.start,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shards of any count cover every chain exactly once, in order.
+    #[test]
+    fn shards_partition_the_chains() {
+        for chains in [1u32, 2, 7, 64, 1000, 4096] {
+            for count in 1..=9u32.min(chains) {
+                let mut next = 0;
+                for index in 1..=count {
+                    let r = Shard { index, count }.chains(chains);
+                    assert_eq!(r.start, next, "{chains} chains, {index}/{count}");
+                    assert!(r.end > r.start, "{chains} chains, {index}/{count} is empty");
+                    next = r.end;
+                }
+                assert_eq!(next, chains);
+            }
+        }
+    }
+
+    #[test]
+    fn shard_names_parse() {
+        assert_eq!("2/3".parse::<Shard>(), Ok(Shard { index: 2, count: 3 }));
+        assert_eq!("1/1".parse::<Shard>(), Ok(Shard::WHOLE));
+        for bad in ["0/3", "4/3", "3", "a/b", "1/0", "-1/2", ""] {
+            assert!(bad.parse::<Shard>().is_err(), "{bad}");
+        }
+    }
+}

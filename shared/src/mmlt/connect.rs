@@ -1,0 +1,262 @@
+//! The `connect` stage: the densities each vertex would have under the other techniques, the
+//! balance-heuristic MIS weight, and [`connect_candidate`], which joins the end points of a
+//! candidate's subpaths with one shadow ray and weighs the path.
+
+#[cfg(target_arch = "spirv")]
+use spirv_std::num_traits::Float;
+
+use core::f32::consts::PI;
+use glam::{Vec3, Vec4};
+
+use crate::bsdf::{bsdf_eval, bsdf_pdf};
+use crate::bvh::occluded;
+use crate::camera::Camera;
+use crate::layout::{pack_contribution, soa_index};
+use crate::light::emitted;
+
+use super::*;
+
+/// The density of `from` (with predecessor `before`, or a light origin when `from` is a
+/// light endpoint) generating `to`, as an area density at `to`.
+#[inline]
+fn vertex_pdf(scene: Scene, camera: &Camera, before: Vec3, from: &PathVertex, to: &PathVertex) -> f32 {
+    let p = from.position();
+    let w = (to.position() - p).normalize_or_zero();
+    let pdf_dir = if from.kind == KIND_CAMERA {
+        camera.pdf_direction(w)
+    } else if from.kind == KIND_LIGHT {
+        from.normal().dot(w).max(0.0) / PI
+    } else {
+        let m = scene.materials[from.material as usize];
+        bsdf_pdf(&m, from.normal(), (before - p).normalize_or_zero(), w)
+    };
+    convert_density(pdf_dir, p, to.position(), to.normal(), to.kind != KIND_CAMERA)
+}
+
+/// Density of a camera-subpath end point `pt` that lies on a light being the light's origin.
+#[inline]
+fn light_origin_pdf(scene: Scene, v: &PathVertex) -> f32 {
+    scene.triangles[v.triangle as usize].light_area_pdf
+}
+
+/// Ratio p_rev / p_fwd of one vertex, 0 when it has no forward density.
+#[inline]
+fn density_ratio(rev: f32, fwd: f32) -> f32 {
+    if fwd > 0.0 {
+        rev / fwd
+    } else {
+        0.0
+    }
+}
+
+/// The result of the `connect` stage for one candidate.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Connection {
+    /// F = f · w_s · (k + 2) / p_s (rgb).
+    pub contribution: Vec3,
+    /// The pixel it lands on.
+    pub pixel: u32,
+    /// The balance-heuristic weight w_s.
+    pub mis_weight: f32,
+}
+
+/// The `connect` stage for one candidate: connects the end points of the two subpaths (one
+/// shadow ray), computes the unweighted contribution, the balance-heuristic weight over all
+/// techniques, and F.
+#[inline]
+pub fn connect_candidate(
+    params: &RenderParams,
+    scene: Scene,
+    u: &[f32],
+    samples: Samples,
+    info: &PathInfo,
+    vertices: &[PathVertex],
+) -> Connection {
+    let max_depth = params.max_depth;
+    let cam = params.camera;
+    let s = info.s;
+    let t = info.t;
+    let none = Connection { contribution: Vec3::ZERO, pixel: info.pixel, mis_weight: 0.0 };
+    if t > info.camera_vertices || (s >= 2 && s > info.light_vertices) {
+        return none;
+    }
+    let at = |side: u32, i: u32| {
+        vertices[soa_index(samples.candidate, vertex_slot(side, i, max_depth), samples.count)]
+    };
+    let mut pixel = info.pixel;
+    let zero = PathVertex::default();
+    // The four vertices around the connection (pt, pt−, qs, qs−), possibly resampled.
+    let mut pt = if t >= 1 { at(0, t - 1) } else { zero };
+    let pt_minus = if t >= 2 { at(0, t - 2) } else { zero };
+    let mut qs = if s >= 2 { at(1, s - 1) } else { zero };
+    let qs_minus = if s >= 2 { at(1, s - 2) } else { zero };
+    let mut l = Vec3::ZERO;
+    if s == 0 {
+        // The camera subpath found a light by itself.
+        let m = scene.materials[pt.material as usize];
+        if pt.kind == KIND_SURFACE && m.is_emissive() {
+            let w = (pt_minus.position() - pt.position()).normalize_or_zero();
+            l = pt.throughput() * emitted(Vec3::from_array(m.emission), pt.normal(), w);
+        }
+    } else {
+        if s == 1 {
+            qs = sample_light(
+                scene.lights,
+                params.light_count,
+                scene.triangles,
+                scene.materials,
+                samples.get(u, DIM_CONNECT_PICK),
+                samples.get2(u, DIM_CONNECT_POINT),
+            )
+            .vertex;
+        }
+        let qp = qs.position();
+        if t == 1 {
+            // Connect the light subpath's end to the pinhole.
+            let to_cam = cam.origin() - qp;
+            let dist2 = to_cam.length_squared();
+            let w = to_cam / dist2.sqrt();
+            let r = cam.raster(-w);
+            if r.inside && dist2 > 0.0 {
+                pixel = cam.pixel(r.x, r.y);
+                let f = if s == 1 {
+                    if qs.normal().dot(w) > 0.0 {
+                        Vec3::ONE
+                    } else {
+                        Vec3::ZERO
+                    }
+                } else {
+                    let m = scene.materials[qs.material as usize];
+                    bsdf_eval(&m, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), w)
+                };
+                let g = qs.normal().dot(w).abs() * r.cos_theta / dist2;
+                l = qs.throughput() * f * (cam.importance(-w) * g);
+            }
+            pt = PathVertex {
+                p: cam.position,
+                kind: KIND_CAMERA,
+                n: cam.forward,
+                pdf_fwd: 1.0,
+                ..Default::default()
+            };
+        } else if pt.kind == KIND_SURFACE {
+            let pp = pt.position();
+            let to_q = qp - pp;
+            let dist2 = to_q.length_squared();
+            if dist2 > 0.0 {
+                let w = to_q / dist2.sqrt();
+                let mp = scene.materials[pt.material as usize];
+                let f_pt = bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), w);
+                let f_qs = if s == 1 {
+                    if qs.normal().dot(-w) > 0.0 {
+                        Vec3::ONE
+                    } else {
+                        Vec3::ZERO
+                    }
+                } else {
+                    let mq = scene.materials[qs.material as usize];
+                    bsdf_eval(&mq, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), -w)
+                };
+                let g = pt.normal().dot(w).abs() * qs.normal().dot(w).abs() / dist2;
+                l = pt.throughput() * f_pt * f_qs * qs.throughput() * g;
+            }
+        }
+        // One shadow ray between the end points.
+        if l.max_element() > 0.0 {
+            let from = spawn(qp, qs.normal(), pt.position() - qp, params.epsilon);
+            let target = if pt.kind == KIND_CAMERA {
+                pt.position()
+            } else {
+                spawn(pt.position(), pt.normal(), qp - pt.position(), params.epsilon)
+            };
+            let dir = target - from;
+            let dist = dir.length();
+            if dist > 0.0 && occluded(scene.nodes, scene.triangles, from, dir / dist, 0.0, dist) {
+                l = Vec3::ZERO;
+            }
+        }
+    }
+    if !(l.max_element() > 0.0) && !l.is_nan() {
+        return Connection { contribution: Vec3::ZERO, pixel, mis_weight: 0.0 };
+    }
+    let w = mis_weight(params, scene, samples, vertices, s, t, &pt, &pt_minus, &qs, &qs_minus);
+    Connection { contribution: l * (w * (info.depth + 2) as f32), pixel, mis_weight: w }
+}
+
+/// The balance-heuristic weight of technique (s, t) for the connected path.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn mis_weight(
+    params: &RenderParams,
+    scene: Scene,
+    samples: Samples,
+    vertices: &[PathVertex],
+    s: u32,
+    t: u32,
+    pt: &PathVertex,
+    pt_minus: &PathVertex,
+    qs: &PathVertex,
+    qs_minus: &PathVertex,
+) -> f32 {
+    let max_depth = params.max_depth;
+    let cam = params.camera;
+    // Reverse densities that the connection changes.
+    let pt_rev = if s > 0 {
+        vertex_pdf(scene, &cam, qs_minus.position(), qs, pt)
+    } else {
+        light_origin_pdf(scene, pt)
+    };
+    let pt_minus_rev = if t >= 2 {
+        if s > 0 {
+            vertex_pdf(scene, &cam, qs.position(), pt, pt_minus)
+        } else {
+            // pt lies on a light: its density of emitting towards pt−.
+            let as_light = PathVertex { kind: KIND_LIGHT, ..*pt };
+            vertex_pdf(scene, &cam, Vec3::ZERO, &as_light, pt_minus)
+        }
+    } else {
+        0.0
+    };
+    let qs_rev = if s > 0 { vertex_pdf(scene, &cam, pt_minus.position(), pt, qs) } else { 0.0 };
+    let qs_minus_rev = if s >= 2 { vertex_pdf(scene, &cam, pt.position(), qs, qs_minus) } else { 0.0 };
+    let mut sum = 0.0f32;
+    // Techniques with more light vertices: walk the camera subpath back to vertex 1.
+    let mut ri = 1.0f32;
+    let mut i = t;
+    while i > 1 {
+        i -= 1;
+        let (fwd, rev) = if i == t - 1 {
+            (pt.pdf_fwd, pt_rev)
+        } else if i + 2 == t {
+            (pt_minus.pdf_fwd, pt_minus_rev)
+        } else {
+            let v = vertices[soa_index(samples.candidate, vertex_slot(0, i, max_depth), samples.count)];
+            (v.pdf_fwd, v.pdf_rev)
+        };
+        ri *= density_ratio(rev, fwd);
+        sum += ri;
+    }
+    // Techniques with fewer light vertices: walk the light subpath back to vertex 0.
+    ri = 1.0;
+    i = s;
+    while i > 0 {
+        i -= 1;
+        let (fwd, rev) = if i + 1 == s {
+            (qs.pdf_fwd, qs_rev)
+        } else if i + 2 == s {
+            (qs_minus.pdf_fwd, qs_minus_rev)
+        } else {
+            let v = vertices[soa_index(samples.candidate, vertex_slot(1, i, max_depth), samples.count)];
+            (v.pdf_fwd, v.pdf_rev)
+        };
+        ri *= density_ratio(rev, fwd);
+        sum += ri;
+    }
+    1.0 / (1.0 + sum)
+}
+
+/// Packs a connection for the contribution buffer: F (rgb) and the pixel's bits.
+#[inline]
+pub fn pack_connection(c: &Connection) -> Vec4 {
+    pack_contribution(c.contribution, 1.0, c.pixel)
+}

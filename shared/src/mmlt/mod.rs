@@ -1,0 +1,47 @@
+//! Multiplexed MLT path sampling (Hachisuka et al. 2014, as pbrt-v3's `MLTIntegrator`): a chain
+//! of fixed path depth k (bounces; k + 1 segments) maps its primary samples u to one of the
+//! k + 2 ways of splitting the path into a light subpath of s vertices and a camera subpath of
+//! t = k + 2 − s vertices, traces both, connects only their end points, and weighs the result
+//! with the balance heuristic over all k + 2 techniques:
+//!
+//! `F(u) = f(x̄) · w_s(x̄) · (k + 2) / p_s(x̄)`, scalar target `c(u) = luminance(F)`.
+//!
+//! The technique is chosen by u[0] (so mutations can change it). s = 1 resamples the light
+//! point with its own samples and t = 1 connects to the pinhole, landing on the pixel the
+//! light subpath projects to. t = 0 is impossible with a pinhole and is excluded.
+//!
+//! The stages of the wavefront live here as plain functions: [`trace_candidate`] builds both
+//! subpaths into the vertex buffer (kernel `trace`), [`connect_candidate`] makes the connection
+//! and the MIS weight (kernel `connect`).
+//!
+//! **Vertex densities.** Each vertex stores `pdf_fwd`, the area density with which its own
+//! subpath generated it, and `pdf_rev`, the area density with which the other subpath would
+//! have; the balance heuristic is `1 / (1 + Σ_{s'≠s} p_{s'}/p_s)`, the ratios being running
+//! products of `pdf_rev/pdf_fwd` along each subpath (pbrt-v3's `MISWeight`, here without the
+//! delta remapping since no material or light is a delta distribution). The connection changes
+//! `pdf_rev` of the two last vertices of each subpath; they are recomputed in the connection.
+
+mod chain;
+mod connect;
+mod dimensions;
+mod params;
+mod trace;
+mod vertex;
+
+pub use chain::*;
+pub use connect::*;
+pub use dimensions::*;
+pub use params::*;
+pub use trace::*;
+pub use vertex::*;
+
+use glam::Vec3;
+
+/// Luminance (Rec. 709) of a linear RGB value: the scalar target c.
+#[inline]
+pub fn luminance(rgb: Vec3) -> f32 {
+    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
+}
+
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod tests;

@@ -1,0 +1,98 @@
+//! What every dispatch of a render knows ([`RenderParams`]), the dispatch modes and methods,
+//! and the bootstrap samples' random keys.
+
+use crate::camera::Camera;
+use crate::mutation::MutationParams;
+
+/// Mode of a render dispatch: advancing chains.
+pub const MODE_CHAINS: u32 = 0;
+/// Mode of a render dispatch: bootstrap (fresh samples, depth = sample index mod (k_max + 1)).
+pub const MODE_BOOTSTRAP: u32 = 1;
+/// Iteration word of the random keys of bootstrap samples.
+pub const BOOTSTRAP_ITERATION: u32 = u32::MAX;
+
+/// Dimension `dim` of bootstrap sample `sample`: a fresh uniform (the host regenerates the
+/// chosen samples' vectors with this same function to start the chains).
+#[inline]
+pub fn bootstrap_sample(seed: u32, sample: u32, dim: u32) -> f32 {
+    crate::rng::uniform_dim(bootstrap_key(seed, sample), crate::rng::STREAM_LARGE_STEP, dim)
+}
+
+/// The random key of bootstrap sample `sample`.
+#[inline]
+pub fn bootstrap_key(seed: u32, sample: u32) -> crate::rng::RngKey {
+    crate::rng::RngKey { seed, chain: sample, iteration: BOOTSTRAP_ITERATION, dimension: 0 }
+}
+
+/// Everything a pass needs to know about the render (uploaded before each dispatch).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct RenderParams {
+    /// The camera.
+    pub camera: Camera,
+    /// The mutation schedule.
+    pub mutation: MutationParams,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Maximum number of bounces (pbrt's maxdepth).
+    pub max_depth: u32,
+    /// Primary sample dimensions, [`sample_dimensions`] of `max_depth`.
+    pub dims: u32,
+    /// Number of chains N.
+    pub chains: u32,
+    /// Number of candidates in this dispatch (N · candidates per chain, or bootstrap samples).
+    pub candidates: u32,
+    /// Speculative tree depth d (1 = naive parallel MMLT).
+    pub tree_depth: u32,
+    /// Iteration of the chains.
+    pub iteration: u32,
+    /// The user's seed.
+    pub seed: u32,
+    /// Entries of the light CDF.
+    pub light_count: u32,
+    /// [`MODE_CHAINS`] or [`MODE_BOOTSTRAP`].
+    pub mode: u32,
+    /// Global index of the first bootstrap sample of this dispatch.
+    pub sample_offset: u32,
+    /// Ray-origin offset, relative to the scene's size.
+    pub epsilon: f32,
+    /// [`METHOD_TREE`] or [`METHOD_REJECT_CHAIN`].
+    pub method: u32,
+    /// Reject-chain length l (proposals per chain and iteration).
+    pub reject_length: u32,
+    /// Global index of this dispatch's chain 0: every random number of a chain is keyed by
+    /// `chain_offset + p` (its index in the whole render), so any partition of the chains into
+    /// buffers, threads, adapters or machines renders the same chains.
+    pub chain_offset: u32,
+}
+
+/// Chains evaluate a speculative tree of depth `tree_depth` (1: the naive method).
+pub const METHOD_TREE: u32 = 0;
+/// Chains evaluate a reject chain of `reject_length` proposals.
+pub const METHOD_REJECT_CHAIN: u32 = 1;
+
+impl RenderParams {
+    /// Candidates traced per chain and iteration: 2^d − 1 or l.
+    #[inline]
+    pub fn candidates_per_chain(&self) -> u32 {
+        if self.method == METHOD_REJECT_CHAIN {
+            self.reject_length
+        } else {
+            crate::tree::candidate_count(self.tree_depth)
+        }
+    }
+
+    /// The render-wide index of this dispatch's chain `p` (what its random numbers are keyed by).
+    #[inline]
+    pub fn global_chain(&self, p: u32) -> u32 {
+        self.chain_offset + p
+    }
+
+    /// Distinct states (splat records) per chain: the current state and every candidate.
+    #[inline]
+    pub fn states_per_chain(&self) -> u32 {
+        self.candidates_per_chain() + 1
+    }
+}

@@ -1,0 +1,200 @@
+//! The `trace` stage: the light-point sample, the scene as the passes see it, the random walk
+//! that extends a subpath, and [`trace_candidate`], which builds both subpaths of a candidate.
+
+use core::f32::consts::PI;
+use glam::{Vec2, Vec3};
+
+use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere, Material};
+use crate::bvh::{closest_hit, BvhNode, Triangle};
+use crate::layout::soa_index;
+use crate::light::{pick_light, uniform_triangle, LightEntry};
+
+use super::*;
+
+/// A point sampled on the lights.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LightSample {
+    /// The vertex (kind LIGHT, beta = emission / area density, pdf_fwd = area density).
+    pub vertex: PathVertex,
+    /// Its emission.
+    pub emission: Vec3,
+}
+
+/// Picks a light point from `u_pick` and `u_point` (area density `triangle.light_area_pdf`).
+#[inline]
+pub fn sample_light(
+    lights: &[LightEntry],
+    light_count: u32,
+    tris: &[Triangle],
+    materials: &[Material],
+    u_pick: f32,
+    u_point: Vec2,
+) -> LightSample {
+    let entry = lights[pick_light(lights, light_count, u_pick) as usize];
+    let tri = tris[entry.triangle as usize];
+    let b = uniform_triangle(u_point);
+    let emission = Vec3::from_array(materials[tri.material as usize].emission);
+    let pdf = tri.light_area_pdf;
+    let beta = if pdf > 0.0 { emission / pdf } else { Vec3::ZERO };
+    LightSample {
+        vertex: PathVertex {
+            p: tri.point(b.x, b.y).to_array(),
+            kind: KIND_LIGHT,
+            n: tri.normal().to_array(),
+            material: tri.material,
+            beta: beta.to_array(),
+            pdf_fwd: pdf,
+            pdf_rev: 0.0,
+            triangle: entry.triangle,
+            _pad: [0; 2],
+        },
+        emission,
+    }
+}
+
+/// The scene as the passes see it (all slices are device buffers).
+#[derive(Clone, Copy)]
+pub struct Scene<'a> {
+    /// BVH nodes.
+    pub nodes: &'a [BvhNode],
+    /// Triangles in BVH order.
+    pub triangles: &'a [Triangle],
+    /// Materials.
+    pub materials: &'a [Material],
+    /// Light-selection CDF.
+    pub lights: &'a [LightEntry],
+}
+
+/// Extends a subpath from its first vertex (already stored) to at most `max_vertices`
+/// vertices by tracing rays and sampling BSDFs, storing each vertex and the reverse density of
+/// its predecessor. Returns the number of vertices the subpath has.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn random_walk(
+    params: &RenderParams,
+    scene: Scene,
+    u: &[f32],
+    samples: Samples,
+    side: u32,
+    first: PathVertex,
+    direction: Vec3,
+    throughput: Vec3,
+    pdf_direction: f32,
+    max_vertices: u32,
+    vertices: &mut [PathVertex],
+) -> u32 {
+    let max_depth = params.max_depth;
+    let mut prev = first;
+    let mut count = 1u32;
+    let mut d = direction;
+    let mut beta = throughput;
+    let mut pdf_dir = pdf_direction;
+    let mut origin = if first.kind == KIND_CAMERA {
+        first.position()
+    } else {
+        spawn(first.position(), first.normal(), d, params.epsilon)
+    };
+    while count < max_vertices {
+        let hit = closest_hit(scene.nodes, scene.triangles, origin, d, 0.0, crate::bvh::NO_HIT);
+        if !hit.found() {
+            break;
+        }
+        let tri = scene.triangles[hit.triangle as usize];
+        let p = origin + d * hit.t;
+        let n = tri.normal();
+        // The forward density converts onto the new vertex, which always lies on a surface.
+        let v = PathVertex {
+            p: p.to_array(),
+            kind: KIND_SURFACE,
+            n: n.to_array(),
+            material: tri.material,
+            beta: beta.to_array(),
+            pdf_fwd: convert_density(pdf_dir, prev.position(), p, n, true),
+            pdf_rev: 0.0,
+            triangle: hit.triangle,
+            _pad: [0; 2],
+        };
+        vertices[soa_index(samples.candidate, vertex_slot(side, count, max_depth), samples.count)] = v;
+        count += 1;
+        if count >= max_vertices {
+            break;
+        }
+        let m = scene.materials[tri.material as usize];
+        let wo = -d;
+        let bounce = count - 2;
+        let bs = bsdf_sample(&m, n, wo, samples.get2(u, bounce_dimension(side, bounce, max_depth)));
+        if !(bs.pdf > 0.0) {
+            break;
+        }
+        beta *= bs.f * (bs.wi.dot(n).abs() / bs.pdf);
+        // The density of the reverse walk arriving at the predecessor.
+        let pdf_back = bsdf_pdf(&m, n, bs.wi, wo);
+        prev.pdf_rev = convert_density(pdf_back, p, prev.position(), prev.normal(), prev.kind != KIND_CAMERA);
+        vertices[soa_index(samples.candidate, vertex_slot(side, count - 2, max_depth), samples.count)] = prev;
+        prev = v;
+        d = bs.wi;
+        pdf_dir = bs.pdf;
+        origin = spawn(p, n, d, params.epsilon);
+    }
+    count
+}
+
+/// The `trace` stage for one candidate: picks the technique, then builds the camera subpath
+/// (t vertices, the pinhole first) and, for s ≥ 2, the light subpath (s vertices, a light
+/// point first) into the vertex buffer.
+#[inline]
+pub fn trace_candidate(
+    params: &RenderParams,
+    scene: Scene,
+    u: &[f32],
+    samples: Samples,
+    depth: u32,
+    vertices: &mut [PathVertex],
+) -> PathInfo {
+    let max_depth = params.max_depth;
+    let cam = params.camera;
+    let (s, t) = technique(samples.get(u, DIM_TECHNIQUE), depth);
+    let raster = samples.get2(u, DIM_RASTER) * Vec2::new(cam.width, cam.height);
+    let pixel = cam.pixel(raster.x, raster.y);
+    let camera_vertex = PathVertex {
+        p: cam.position,
+        kind: KIND_CAMERA,
+        n: cam.forward,
+        beta: [1.0; 3],
+        pdf_fwd: 1.0,
+        ..Default::default()
+    };
+    vertices[soa_index(samples.candidate, vertex_slot(0, 0, max_depth), samples.count)] = camera_vertex;
+    let mut camera_vertices = 1;
+    if t >= 2 {
+        let d = cam.direction(raster.x, raster.y);
+        let pdf = cam.pdf_direction(d);
+        camera_vertices =
+            random_walk(params, scene, u, samples, 0, camera_vertex, d, Vec3::ONE, pdf, t, vertices);
+    }
+    let mut light_vertices = 0;
+    if s >= 2 {
+        let ls = sample_light(
+            scene.lights,
+            params.light_count,
+            scene.triangles,
+            scene.materials,
+            samples.get(u, DIM_LIGHT_PICK),
+            samples.get2(u, DIM_LIGHT_POINT),
+        );
+        let v0 = ls.vertex;
+        vertices[soa_index(samples.candidate, vertex_slot(1, 0, max_depth), samples.count)] = v0;
+        light_vertices = 1;
+        if v0.pdf_fwd > 0.0 {
+            let n = v0.normal();
+            let d = cosine_hemisphere(n, samples.get2(u, DIM_LIGHT_DIRECTION));
+            let pdf = n.dot(d).max(0.0) / PI;
+            if pdf > 0.0 {
+                // beta = Le · cos / (p_A · p_dir) = Le · π / p_A.
+                let beta = ls.emission * (PI / v0.pdf_fwd);
+                light_vertices = random_walk(params, scene, u, samples, 1, v0, d, beta, pdf, s, vertices);
+            }
+        }
+    }
+    PathInfo { s, t, camera_vertices, light_vertices, pixel, depth, _pad: [0; 2] }
+}
