@@ -4,6 +4,7 @@
 mod common;
 
 use common::scenes::{furnace, furnace_radiance};
+use common::stats;
 use shared::mutation::MutationParams;
 use smlt::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Rendered, Settings};
 use smlt::scene::SceneData;
@@ -34,18 +35,7 @@ fn render_cpu(scene: &SceneData, s: &Settings) -> Rendered {
 
 /// Mean luminance of each of `blocks`×`blocks` image blocks.
 fn block_means(r: &Rendered, blocks: u32) -> Vec<f64> {
-    let mut sums = vec![0.0; (blocks * blocks) as usize];
-    let mut counts = vec![0u32; sums.len()];
-    for y in 0..r.height {
-        for x in 0..r.width {
-            let i = ((x + y * r.width) * 3) as usize;
-            let lum = shared::mmlt::luminance(glam::Vec3::new(r.rgb[i], r.rgb[i + 1], r.rgb[i + 2])) as f64;
-            let b = (x * blocks / r.width + (y * blocks / r.height) * blocks) as usize;
-            sums[b] += lum;
-            counts[b] += 1;
-        }
-    }
-    sums.iter().zip(&counts).map(|(s, c)| s / *c as f64).collect()
+    stats::block_means(&r.rgb, r.width, r.height, blocks)
 }
 
 /// Checks a furnace render: the image mean (= b, the bootstrap's estimate of the total) is
@@ -90,13 +80,6 @@ fn replica_blocks(scene: &SceneData, s: &Settings, seed0: u32, replicas: u32) ->
         .collect()
 }
 
-/// Per block: mean over replicas and the sample variance of one replica.
-fn mean_and_variance(runs: &[Vec<f64>], block: usize) -> (f64, f64) {
-    let r = runs.len() as f64;
-    let m = runs.iter().map(|x| x[block]).sum::<f64>() / r;
-    (m, runs.iter().map(|x| (x[block] - m).powi(2)).sum::<f64>() / (r - 1.0))
-}
-
 /// No region of the furnace deviates beyond its noise. The radiance is uniform, so every
 /// block has the same distribution: the noise of a block mean is estimated from all blocks
 /// of 8 independent renders together (112 degrees of freedom), and every block's mean over
@@ -108,10 +91,10 @@ fn furnace_blocks_are_within_their_noise() {
     let scene = furnace(1.0, rho);
     let expected = furnace_radiance(1.0, rho, k);
     let runs = replica_blocks(&scene, &settings(16, k, 256.0, 2048, 1 << 18), 100, 8);
-    let pooled = (0..16).map(|b| mean_and_variance(&runs, b).1).sum::<f64>() / 16.0;
+    let pooled = (0..16).map(|b| stats::mean_and_variance(&runs, b).1).sum::<f64>() / 16.0;
     let se = (pooled / runs.len() as f64).sqrt();
     for b in 0..16 {
-        let (m, _) = mean_and_variance(&runs, b);
+        let (m, _) = stats::mean_and_variance(&runs, b);
         let z = (m - expected) / se;
         println!("block {b}: {m:.4} (z = {z:+.2}, se {se:.4})");
         assert!(z.abs() < 4.5, "block {b}: {m} vs {expected}, {z:.2} standard errors");
@@ -143,13 +126,9 @@ fn large_steps_only_and_the_default_schedule_agree() {
     let default = replica_blocks(&scene, &s, 10, 6);
     s.mutation.p_large = 1.0;
     let independent = replica_blocks(&scene, &s, 20, 6);
-    let r = 6.0;
     let mut worst = 0.0f64;
     for b in 0..16 {
-        let (ma, va) = mean_and_variance(&default, b);
-        let (mb, vb) = mean_and_variance(&independent, b);
-        let se = ((va + vb) / r).sqrt().max(1e-9);
-        let z = (ma - mb) / se;
+        let (ma, mb, z) = stats::z_score(&default, &independent, b);
         worst = worst.max(z.abs());
         assert!(z.abs() < 5.0, "block {b}: {ma:.5} vs {mb:.5} (z = {z:.2})");
     }
@@ -169,9 +148,7 @@ fn every_method_converges_to_the_same_image() {
         let runs = replica_blocks(&scene, &s, 40, 5);
         let mut worst = 0.0f64;
         for b in 0..16 {
-            let (ma, va) = mean_and_variance(&naive, b);
-            let (mb, vb) = mean_and_variance(&runs, b);
-            let z = (ma - mb) / ((va + vb) / 5.0).sqrt().max(1e-9);
+            let (ma, mb, z) = stats::z_score(&naive, &runs, b);
             worst = worst.max(z.abs());
             assert!(z.abs() < 5.0, "{method} block {b}: naive {ma:.5}, {method} {mb:.5} (z = {z:.2})");
         }

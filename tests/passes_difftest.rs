@@ -7,7 +7,7 @@
 mod common;
 
 use glam::Vec4;
-use shared::layout::unpack_contribution;
+use shared::layout::{soa_index, unpack_contribution};
 use shared::mmlt::{ChainState, PathInfo, PathVertex, RenderParams, Scene, MODE_BOOTSTRAP};
 use shared::{reject_chain, tree};
 use smlt::gpu::Gpu;
@@ -69,204 +69,264 @@ fn allowed(n: usize) -> usize {
     n / 200
 }
 
-fn difftest(gpu: Gpu, method: Method) {
-    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
-    let s = Settings {
-        width: 24,
-        height: 16,
-        max_depth: 5,
-        seed: 3,
-        method,
-        budget: Budget::MutationsPerPixel(1.0),
-        candidates: 2048,
-        bootstrap_samples: 2048,
-        mutation: Default::default(),
-        shard: render::Shard::WHOLE,
-    };
-    let base = render::base_params(&scene, &s);
-    let (c, n) = (base.candidates as usize, base.chains as usize);
-    let mut dev = gpu::GpuBackend::new(gpu, &scene, &base).expect("device buffers");
-    let mut cpu = CpuBuffers::new(&scene, &base);
-    let shared_scene = Scene {
-        nodes: &scene.nodes,
-        triangles: &scene.triangles,
-        materials: &scene.materials,
-        lights: &scene.lights,
-    };
+/// The two sides of a difftest: the device backend and the CPU buffers of the same render, at
+/// the same state. Each check runs one stage on both from the same inputs (the CPU's outputs
+/// of the stage before) and compares what it wrote.
+struct Difftest<'a> {
+    method: Method,
+    base: RenderParams,
+    params: RenderParams,
+    scene: Scene<'a>,
+    dev: gpu::GpuBackend,
+    cpu: CpuBuffers<'a>,
+    /// The chains' states before `select`.
+    start: Vec<ChainState>,
+}
 
-    // Bootstrap (mutate, trace, connect in bootstrap mode).
-    let boot = RenderParams { mode: MODE_BOOTSTRAP, ..base };
-    let a = cpu.bootstrap(&boot);
-    let b = dev.bootstrap(&boot).unwrap();
-    let differ = a.iter().zip(&b).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
-    println!("{method}: bootstrap contributions differing: {differ} of {c}");
-    assert!(differ <= allowed(c));
-
-    // Identical chain starts: the first N bootstrap samples.
-    let mut chain_u = vec![0.0f32; n * base.dims as usize];
-    for p in 0..n {
-        for d in 0..base.dims {
-            chain_u[p + d as usize * n] = shared::mmlt::bootstrap_sample(s.seed, p as u32, d);
+impl<'a> Difftest<'a> {
+    fn new(gpu: Gpu, method: Method, scene: &'a SceneData) -> Self {
+        let s = Settings {
+            width: 24,
+            height: 16,
+            max_depth: 5,
+            seed: 3,
+            method,
+            budget: Budget::MutationsPerPixel(1.0),
+            candidates: 2048,
+            bootstrap_samples: 2048,
+            mutation: Default::default(),
+            shard: render::Shard::WHOLE,
+        };
+        let base = render::base_params(scene, &s);
+        Difftest {
+            method,
+            base,
+            params: RenderParams { iteration: 5, ..base },
+            scene: scene.shared(),
+            dev: gpu::GpuBackend::new(gpu, scene, &base).expect("device buffers"),
+            cpu: CpuBuffers::new(scene, &base),
+            start: Vec::new(),
         }
     }
-    let chains: Vec<ChainState> = (0..n)
-        .map(|p| ChainState {
-            contribution: a[p].to_array(),
-            depth: shared::normalisation::bootstrap_depth(p as u32, s.max_depth),
-            ..Default::default()
-        })
-        .collect();
-    cpu.chain_u.copy_from_slice(&chain_u);
-    cpu.chains.copy_from_slice(&chains);
-    dev.start(&chain_u, &chains).unwrap();
-    let params = RenderParams { iteration: 5, ..base };
 
-    // mutate
-    passes::mutate::cpu(&params, &cpu.chains, &cpu.chain_u, &mut cpu.cand_u, &mut cpu.cand_depth);
-    dev.run(&params, &[Stage::Mutate]).unwrap();
-    let dev_u: Vec<f32> = dev.gpu().read(&dev.buffers().cand_u, cpu.cand_u.len()).unwrap();
-    let differ = cpu.cand_u.iter().zip(&dev_u).filter(|(x, y)| (**x - **y).abs() > 1e-6).count();
-    println!("{method}: mutate samples differing: {differ} of {}", dev_u.len());
-    assert_eq!(differ, 0);
+    fn candidates(&self) -> usize {
+        self.base.candidates as usize
+    }
 
-    // trace, from the CPU's candidate samples
-    let dev_depth: Vec<u32> = dev.gpu().read(&dev.buffers().cand_depth, c).unwrap();
-    assert_eq!(cpu.cand_depth, dev_depth, "candidate depths");
-    upload(dev.gpu(), &dev.buffers().cand_u, &cpu.cand_u);
-    passes::trace::cpu(
-        &params,
-        &cpu.cand_depth,
-        &cpu.cand_u,
-        shared_scene,
-        &mut cpu.vertices,
-        &mut cpu.paths,
-    );
-    dev.run(&params, &[Stage::Trace]).unwrap();
-    let dev_paths: Vec<PathInfo> = dev.gpu().read(&dev.buffers().paths, c).unwrap();
-    let dev_vertices: Vec<PathVertex> = dev.gpu().read(&dev.buffers().vertices, cpu.vertices.len()).unwrap();
-    let slots = shared::mmlt::vertex_slots(s.max_depth) as usize;
-    let mut differ = 0;
-    for k in 0..c {
-        let (pa, pb) = (cpu.paths[k], dev_paths[k]);
-        let same_vertices = (0..slots).all(|slot| {
-            let used = slot < pa.camera_vertices as usize || slot >= slots - pa.light_vertices as usize;
-            !used || vertex_close(&cpu.vertices[k + slot * c], &dev_vertices[k + slot * c])
-        });
-        if pa != pb || !same_vertices {
-            differ += 1;
-            if differ <= 3 && std::env::var("SMLT_DIFF_VERBOSE").is_ok() {
-                println!("candidate {k}: cpu {pa:?}\n  dev {pb:?}");
-                for slot in 0..slots {
-                    let (x, y) = (cpu.vertices[k + slot * c], dev_vertices[k + slot * c]);
-                    if !vertex_close(&x, &y) {
-                        println!("  slot {slot}: cpu {x:?}\n          dev {y:?}");
+    fn chains(&self) -> usize {
+        self.base.chains as usize
+    }
+
+    /// Bootstrap (mutate, trace, connect in bootstrap mode); then both sides start their chains
+    /// identically, at the first N bootstrap samples.
+    fn bootstrap(&mut self) {
+        let (method, c, n) = (self.method, self.candidates(), self.chains());
+        let boot = RenderParams { mode: MODE_BOOTSTRAP, ..self.base };
+        let a = self.cpu.bootstrap(&boot);
+        let b = self.dev.bootstrap(&boot).unwrap();
+        let differ = a.iter().zip(&b).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
+        println!("{method}: bootstrap contributions differing: {differ} of {c}");
+        assert!(differ <= allowed(c));
+        let dims = self.base.dims;
+        let mut chain_u = vec![0.0f32; n * dims as usize];
+        for p in 0..n as u32 {
+            for d in 0..dims {
+                chain_u[soa_index(p, d, n as u32)] = shared::mmlt::bootstrap_sample(self.base.seed, p, d);
+            }
+        }
+        self.start = (0..n)
+            .map(|p| ChainState {
+                contribution: a[p].to_array(),
+                depth: shared::normalisation::bootstrap_depth(p as u32, self.base.max_depth),
+                ..Default::default()
+            })
+            .collect();
+        self.cpu.chain_u.copy_from_slice(&chain_u);
+        self.cpu.chains.copy_from_slice(&self.start);
+        self.dev.start(&chain_u, &self.start).unwrap();
+    }
+
+    /// mutate: the same candidate samples and depths, exactly.
+    fn mutate(&mut self) {
+        let c = self.candidates();
+        let (params, cpu) = (&self.params, &mut self.cpu);
+        passes::mutate::cpu(params, &cpu.chains, &cpu.chain_u, &mut cpu.cand_u, &mut cpu.cand_depth);
+        self.dev.run(params, &[Stage::Mutate]).unwrap();
+        let dev_u: Vec<f32> = self.dev.gpu().read(&self.dev.buffers().cand_u, cpu.cand_u.len()).unwrap();
+        let differ = cpu.cand_u.iter().zip(&dev_u).filter(|(x, y)| (**x - **y).abs() > 1e-6).count();
+        println!("{}: mutate samples differing: {differ} of {}", self.method, dev_u.len());
+        assert_eq!(differ, 0);
+        let dev_depth: Vec<u32> = self.dev.gpu().read(&self.dev.buffers().cand_depth, c).unwrap();
+        assert_eq!(cpu.cand_depth, dev_depth, "candidate depths");
+    }
+
+    /// trace, from the CPU's candidate samples: the same path infos and used vertices.
+    fn trace(&mut self) {
+        let c = self.candidates();
+        let (params, cpu) = (&self.params, &mut self.cpu);
+        upload(self.dev.gpu(), &self.dev.buffers().cand_u, &cpu.cand_u);
+        passes::trace::cpu(
+            params,
+            &cpu.cand_depth,
+            &cpu.cand_u,
+            self.scene,
+            &mut cpu.vertices,
+            &mut cpu.paths,
+        );
+        self.dev.run(params, &[Stage::Trace]).unwrap();
+        let dev_paths: Vec<PathInfo> = self.dev.gpu().read(&self.dev.buffers().paths, c).unwrap();
+        let dev_vertices: Vec<PathVertex> =
+            self.dev.gpu().read(&self.dev.buffers().vertices, cpu.vertices.len()).unwrap();
+        let slots = shared::mmlt::vertex_slots(params.max_depth);
+        let vertex = |v: &[PathVertex], k: usize, slot: u32| v[soa_index(k as u32, slot, c as u32)];
+        let mut differ = 0;
+        for (k, (&pa, &pb)) in cpu.paths.iter().zip(&dev_paths).enumerate() {
+            let same_vertices = (0..slots).all(|slot| {
+                let used = slot < pa.camera_vertices || slot >= slots - pa.light_vertices;
+                !used || vertex_close(&vertex(&cpu.vertices, k, slot), &vertex(&dev_vertices, k, slot))
+            });
+            if pa != pb || !same_vertices {
+                differ += 1;
+                if differ <= 3 && std::env::var("SMLT_DIFF_VERBOSE").is_ok() {
+                    println!("candidate {k}: cpu {pa:?}\n  dev {pb:?}");
+                    for slot in 0..slots {
+                        let (x, y) = (vertex(&cpu.vertices, k, slot), vertex(&dev_vertices, k, slot));
+                        if !vertex_close(&x, &y) {
+                            println!("  slot {slot}: cpu {x:?}\n          dev {y:?}");
+                        }
                     }
                 }
             }
         }
-    }
-    println!("{method}: traced candidates differing: {differ} of {c}");
-    assert!(differ <= allowed(c));
-
-    // connect, from the CPU's vertices and paths
-    upload(dev.gpu(), &dev.buffers().vertices, &cpu.vertices);
-    upload(dev.gpu(), &dev.buffers().paths, &cpu.paths);
-    passes::connect::cpu(
-        &params,
-        &cpu.cand_u,
-        shared_scene,
-        &cpu.vertices,
-        &cpu.paths,
-        &mut cpu.contributions,
-    );
-    dev.run(&params, &[Stage::Connect]).unwrap();
-    let dev_contrib: Vec<Vec4> = dev.gpu().read(&dev.buffers().contributions, c).unwrap();
-    let differ = cpu.contributions.iter().zip(&dev_contrib).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
-    let nonzero = cpu.contributions.iter().filter(|v| v.truncate().max_element() > 0.0).count();
-    println!("{method}: connected contributions differing: {differ} of {c} ({nonzero} non-zero)");
-    assert!(differ <= allowed(c) && nonzero > c / 10);
-    for (x, y) in cpu.contributions.iter().zip(&dev_contrib) {
-        assert_eq!(unpack_contribution(*x).1, unpack_contribution(*y).1, "pixel bits");
+        println!("{}: traced candidates differing: {differ} of {c}", self.method);
+        assert!(differ <= allowed(c));
     }
 
-    // select, from the CPU's contributions
-    upload(dev.gpu(), &dev.buffers().contributions, &cpu.contributions);
-    cpu.select(&params);
-    dev.run(&params, &[Stage::Select]).unwrap();
-    let dev_chains: Vec<ChainState> = dev.gpu().read(&dev.buffers().chains, n).unwrap();
-    let dev_chain_u: Vec<f32> = dev.gpu().read(&dev.buffers().chain_u, cpu.chain_u.len()).unwrap();
-    let records = kernels::splat::splat_records(&params) as usize;
-    let dev_splats: Vec<Vec4> = dev.gpu().read(&dev.buffers().splats, records).unwrap();
-    // A chain whose next-state draw falls within rounding of a probability boundary may move
-    // differently on the two sides; every other chain must have identical samples.
-    let same_state: Vec<bool> = (0..n)
-        .map(|p| {
-            let (x, y) = (cpu.chains[p], dev_chains[p]);
-            close4(Vec4::from_array(x.contribution), Vec4::from_array(y.contribution), 1e-6)
-                && close(x.accepted, y.accepted, 1e-4)
-                && x.invalid == y.invalid
-                && x.depth == y.depth
-                && x.large_count == y.large_count
-                && close(x.large_sum, y.large_sum, 1e-4)
-        })
-        .collect();
-    let differ = same_state.iter().filter(|x| !**x).count();
-    let moved = (0..n).filter(|&p| cpu.chains[p].contribution != chains[p].contribution).count();
-    let tallied = cpu.chains.iter().filter(|x| x.large_count > 0).count();
-    assert!(tallied > 0, "{method}: select tallies the large steps' targets for b");
-    println!("{method}: chain states differing: {differ} of {n} ({moved} moved)");
-    assert!(differ <= allowed(n).max(1) && moved > 0);
-    for p in (0..n).filter(|&p| same_state[p]) {
-        for d in 0..base.dims as usize {
-            assert_eq!(
-                cpu.chain_u[p + d * n],
-                dev_chain_u[p + d * n],
-                "chain {p} sample {d} after selection"
-            );
+    /// connect, from the CPU's vertices and paths: the same contributions and pixels.
+    fn connect(&mut self) {
+        let c = self.candidates();
+        let (params, cpu) = (&self.params, &mut self.cpu);
+        upload(self.dev.gpu(), &self.dev.buffers().vertices, &cpu.vertices);
+        upload(self.dev.gpu(), &self.dev.buffers().paths, &cpu.paths);
+        passes::connect::cpu(
+            params,
+            &cpu.cand_u,
+            self.scene,
+            &cpu.vertices,
+            &cpu.paths,
+            &mut cpu.contributions,
+        );
+        self.dev.run(params, &[Stage::Connect]).unwrap();
+        let dev_contrib: Vec<Vec4> = self.dev.gpu().read(&self.dev.buffers().contributions, c).unwrap();
+        let differ =
+            cpu.contributions.iter().zip(&dev_contrib).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
+        let nonzero = cpu.contributions.iter().filter(|v| v.truncate().max_element() > 0.0).count();
+        println!("{}: connected contributions differing: {differ} of {c} ({nonzero} non-zero)", self.method);
+        assert!(differ <= allowed(c) && nonzero > c / 10);
+        for (x, y) in cpu.contributions.iter().zip(&dev_contrib) {
+            assert_eq!(unpack_contribution(*x).1, unpack_contribution(*y).1, "pixel bits");
         }
     }
-    // The device's splat weights are the shared tree / reject-chain weights: a record holds
-    // (F/c)·w, whose luminance is w.
-    let per = params.candidates_per_chain() as usize;
-    let mut checked = 0;
-    for p in 0..n {
-        let mut c = vec![shared::mmlt::luminance(Vec4::from_array(chains[p].contribution).truncate())];
-        c.extend((0..per).map(|k| shared::mmlt::luminance(cpu.contributions[p * per + k].truncate())));
-        let expected = expected_weights(method, &c);
-        for (state, w) in expected.iter().enumerate() {
-            let record = dev_splats[p * (per + 1) + state];
-            let got = if unpack_contribution(record).1 == shared::layout::NO_PIXEL {
-                0.0
-            } else {
-                shared::mmlt::luminance(record.truncate())
-            };
-            // A state with no contribution (c = 0) keeps its weight in the total but splats
-            // nothing.
-            let w = if c[state] > 0.0 { *w } else { 0.0 };
-            // luminance((F/c)·w) = w exactly only while F is a normal float.
-            if same_state[p] && (c[state] == 0.0 || c[state] > 1e-30) {
-                assert!((got - w).abs() <= 1e-4 * w.max(1.0), "chain {p} state {state}: weight {got} vs {w}");
-                checked += 1;
+
+    /// select, from the CPU's contributions: the same chain states, samples, tallies and
+    /// splat records, and splat weights that are the shared tree / reject-chain weights.
+    fn select(&mut self) {
+        let (method, n) = (self.method, self.chains());
+        let (params, cpu) = (&self.params, &mut self.cpu);
+        upload(self.dev.gpu(), &self.dev.buffers().contributions, &cpu.contributions);
+        cpu.select(params);
+        self.dev.run(params, &[Stage::Select]).unwrap();
+        let dev_chains: Vec<ChainState> = self.dev.gpu().read(&self.dev.buffers().chains, n).unwrap();
+        let dev_chain_u: Vec<f32> =
+            self.dev.gpu().read(&self.dev.buffers().chain_u, cpu.chain_u.len()).unwrap();
+        let records = Stage::Splat.invocations(params) as usize;
+        let dev_splats: Vec<Vec4> = self.dev.gpu().read(&self.dev.buffers().splats, records).unwrap();
+        // A chain whose next-state draw falls within rounding of a probability boundary may move
+        // differently on the two sides; every other chain must have identical samples.
+        let same_state: Vec<bool> = (0..n)
+            .map(|p| {
+                let (x, y) = (cpu.chains[p], dev_chains[p]);
+                close4(Vec4::from_array(x.contribution), Vec4::from_array(y.contribution), 1e-6)
+                    && close(x.accepted, y.accepted, 1e-4)
+                    && x.invalid == y.invalid
+                    && x.depth == y.depth
+                    && x.large_count == y.large_count
+                    && close(x.large_sum, y.large_sum, 1e-4)
+            })
+            .collect();
+        let differ = same_state.iter().filter(|x| !**x).count();
+        let moved = (0..n).filter(|&p| cpu.chains[p].contribution != self.start[p].contribution).count();
+        let tallied = cpu.chains.iter().filter(|x| x.large_count > 0).count();
+        assert!(tallied > 0, "{method}: select tallies the large steps' targets for b");
+        println!("{method}: chain states differing: {differ} of {n} ({moved} moved)");
+        assert!(differ <= allowed(n).max(1) && moved > 0);
+        for p in (0..n as u32).filter(|&p| same_state[p as usize]) {
+            for d in 0..params.dims {
+                let i = soa_index(p, d, n as u32);
+                assert_eq!(cpu.chain_u[i], dev_chain_u[i], "chain {p} sample {d} after selection");
             }
         }
+        // A record holds (F/c)·w, whose luminance is w.
+        let per = params.candidates_per_chain() as usize;
+        let mut checked = 0;
+        for p in 0..n {
+            let mut c =
+                vec![shared::mmlt::luminance(Vec4::from_array(self.start[p].contribution).truncate())];
+            c.extend((0..per).map(|k| shared::mmlt::luminance(cpu.contributions[p * per + k].truncate())));
+            let expected = expected_weights(method, &c);
+            for (state, w) in expected.iter().enumerate() {
+                let record = dev_splats[p * (per + 1) + state];
+                let got = if unpack_contribution(record).1 == shared::layout::NO_PIXEL {
+                    0.0
+                } else {
+                    shared::mmlt::luminance(record.truncate())
+                };
+                // A state with no contribution (c = 0) keeps its weight in the total but splats
+                // nothing.
+                let w = if c[state] > 0.0 { *w } else { 0.0 };
+                // luminance((F/c)·w) = w exactly only while F is a normal float.
+                if same_state[p] && (c[state] == 0.0 || c[state] > 1e-30) {
+                    assert!(
+                        (got - w).abs() <= 1e-4 * w.max(1.0),
+                        "chain {p} state {state}: weight {got} vs {w}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > n);
+        let differ =
+            cpu.splats[..records].iter().zip(&dev_splats).filter(|(x, y)| !close4(**x, **y, 1e-4)).count();
+        println!("{method}: splat records differing: {differ} of {records}");
+        assert!(differ <= allowed(records).max(1));
     }
-    assert!(checked > n);
-    let differ =
-        cpu.splats[..records].iter().zip(&dev_splats).filter(|(x, y)| !close4(**x, **y, 1e-4)).count();
-    println!("{method}: splat records differing: {differ} of {records}");
-    assert!(differ <= allowed(records).max(1));
 
-    // splat: the device's f32 image equals the CPU's sum of the same records.
-    let mut cpu_image = vec![0.0f64; (params.width * params.height * 3) as usize];
-    passes::splat::cpu(&params, &cpu.splats, &mut cpu_image);
-    upload(dev.gpu(), &dev.buffers().splats, &cpu.splats[..records]);
-    dev.run(&params, &[Stage::Splat]).unwrap();
-    let mut drained = render::Accumulation::new((params.width * params.height) as usize);
-    dev.drain(&mut drained).unwrap();
-    for (x, y) in cpu_image.iter().zip(&drained.image) {
-        assert!((x - y).abs() <= 1e-5 * x.abs().max(1.0), "image {x} vs {y}");
+    /// splat, from the CPU's records: the device's f32 image equals the CPU's f64 sum.
+    fn splat(&mut self) {
+        let (params, cpu) = (&self.params, &self.cpu);
+        let mut cpu_image = vec![0.0f64; (params.width * params.height * 3) as usize];
+        passes::splat::cpu(params, &cpu.splats, &mut cpu_image);
+        upload(self.dev.gpu(), &self.dev.buffers().splats, &cpu.splats);
+        self.dev.run(params, &[Stage::Splat]).unwrap();
+        let mut drained = render::Accumulation::new((params.width * params.height) as usize);
+        self.dev.drain(&mut drained).unwrap();
+        for (x, y) in cpu_image.iter().zip(&drained.image) {
+            assert!((x - y).abs() <= 1e-5 * x.abs().max(1.0), "image {x} vs {y}");
+        }
+        assert!(cpu_image.iter().any(|v| *v > 0.0));
     }
-    assert!(cpu_image.iter().any(|v| *v > 0.0));
+}
+
+/// Every stage of an iteration, device against CPU, each from the same inputs.
+fn difftest(gpu: Gpu, method: Method) {
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
+    let mut t = Difftest::new(gpu, method, &scene);
+    t.bootstrap();
+    t.mutate();
+    t.trace();
+    t.connect();
+    t.select();
+    t.splat();
 }
 
 #[test]

@@ -3,6 +3,8 @@
 
 mod common;
 
+use common::stats;
+
 use common::scenes::{furnace, furnace_radiance};
 use smlt::reference::{render_reference, ReferenceSettings};
 use smlt::render::{self, cpu::CpuBackend, Budget, Settings};
@@ -21,21 +23,7 @@ fn settings(name: &str, size: u32, max_depth: u32, spp: u32, seed: u32) -> Refer
 }
 
 fn block_means(rgb: &[f32], size: u32) -> Vec<f64> {
-    let mut sums = vec![0.0; 16];
-    for y in 0..size {
-        for x in 0..size {
-            let i = ((x + y * size) * 3) as usize;
-            let lum = shared::mmlt::luminance(glam::Vec3::new(rgb[i], rgb[i + 1], rgb[i + 2])) as f64;
-            sums[(x * 4 / size + (y * 4 / size) * 4) as usize] += lum / (size * size / 16) as f64;
-        }
-    }
-    sums
-}
-
-fn mean_and_variance(runs: &[Vec<f64>], b: usize) -> (f64, f64) {
-    let r = runs.len() as f64;
-    let m = runs.iter().map(|x| x[b]).sum::<f64>() / r;
-    (m, runs.iter().map(|x| (x[b] - m).powi(2)).sum::<f64>() / (r - 1.0))
+    stats::block_means(rgb, size, size, 4)
 }
 
 #[test]
@@ -128,9 +116,7 @@ fn the_reference_and_mmlt_agree_on_the_default_scene() {
             .collect();
         let mut worst = 0.0f64;
         for b in 0..16 {
-            let (mr, vr) = mean_and_variance(&reference, b);
-            let (mm, vm) = mean_and_variance(&mmlt, b);
-            let z = (mr - mm) / (vr / 4.0 + vm / 5.0).sqrt().max(1e-9);
+            let (mr, mm, z) = stats::z_score(&reference, &mmlt, b);
             worst = worst.max(z.abs());
             assert!(z.abs() < 5.0, "{method} block {b}: reference {mr:.5}, MMLT {mm:.5} (z = {z:.2})");
         }

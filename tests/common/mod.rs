@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod scenes;
+pub mod stats;
 
 use smlt::gpu::Gpu;
 
