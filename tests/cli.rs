@@ -412,6 +412,32 @@ fn a_closed_stdout_pipe_is_not_a_panic() {
     }
 }
 
+/// Without --height, the image has the glTF camera's aspect ratio (when it states one); the
+/// PNG is exposed automatically and the exposure is reported, or set with --exposure.
+#[test]
+fn the_height_follows_the_camera_and_the_png_is_exposed() {
+    let dir = temp_dir("aspect");
+    let wide = include_str!("../scenes/cornell.gltf")
+        .replace("\"perspective\": {", "\"perspective\": {\"aspectRatio\": 2.0,");
+    let scene = dir.join("wide.gltf");
+    std::fs::write(&scene, wide).unwrap();
+    let out = dir.join("x.exr");
+    let base =
+        ["render", scene.to_str().unwrap(), "--device", "cpu", "--width", "40", "--mutations-per-pixel", "4"];
+    let (ok, stdout, stderr) = smlt(&[&base[..], &["--out", out.to_str().unwrap()]].concat());
+    assert!(ok && stdout.contains("at 40×20") && stdout.contains("EV, automatic"), "{stdout}{stderr}");
+    let (w, h, _) = smlt::output::read_exr(&out).unwrap();
+    assert_eq!((w, h), (40, 20));
+    let auto = image::open(dir.join("x.png")).unwrap().to_rgb8();
+    let (ok, stdout, _) = smlt(&[&base[..], &["--exposure", "-3", "--out", out.to_str().unwrap()]].concat());
+    assert!(ok && stdout.contains("-3.00 EV"), "{stdout}");
+    let dark = image::open(dir.join("x.png")).unwrap().to_rgb8();
+    let mean =
+        |img: &image::RgbImage| img.pixels().map(|p| p.0.iter().map(|&v| v as f64).sum::<f64>()).sum::<f64>();
+    assert!(mean(&dark) < mean(&auto), "-3 EV is darker than the automatic exposure");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `--device auto` (the default) takes a GPU when the machine has one, and otherwise the CPU
 /// backend on every core, and the first line of the render says which and why; with no Vulkan
 /// driver at all it still renders, on the CPU.

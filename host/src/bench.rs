@@ -194,152 +194,190 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
     for (name, view) in &b.scenes {
         let (label, mut scene, scene_hash) = load_scene(name, b.tessellation)?;
         scene.select_view(*view)?;
-        // The reference: cached with its settings. A CPU Vulkan device (lavapipe) is slower than
-        // the host's own threads for it, so then the host renders it.
-        let reference_path = b.out.join(format!("reference_{label}_v{view}.exr"));
-        let rs = ReferenceSettings {
-            scene: format!("{label} view {view}"),
-            scene_hash,
+        let (reference, noise) = reference_image(b, (&label, *view), &scene, scene_hash, gpu)?;
+        noises.push((label.clone(), *view, noise));
+        let first = rows.len();
+        let last =
+            equal_time(b, (&label, *view), &scene, &reference, gpu, &mut rows, &mut profiles, &mut log)?;
+        write_finals(b, (&label, *view), &rows[first..], &last, &reference)?;
+    }
+    write_results(b, &rows, &noises, &profiles, &mut log)?;
+    Ok(rows)
+}
+
+/// The scene view's reference image, cached with its settings in the output folder, and its
+/// own noise. A CPU Vulkan device (lavapipe) is slower than the host's own threads for it, so
+/// then the host renders it.
+fn reference_image(
+    b: &BenchSettings,
+    (label, view): (&str, u32),
+    scene: &SceneData,
+    scene_hash: String,
+    gpu: Option<&Gpu>,
+) -> anyhow::Result<(Vec<f32>, Option<f64>)> {
+    let path = b.out.join(format!("reference_{label}_v{view}.exr"));
+    let rs = ReferenceSettings {
+        scene: format!("{label} view {view}"),
+        scene_hash,
+        width: b.width,
+        height: b.height,
+        max_depth: b.max_depth,
+        spp: b.reference_spp,
+        seed: b.seed.wrapping_add(1000),
+    };
+    let noise = match cached(&path, &rs) {
+        Some(found) => found.noise_rmse,
+        None => {
+            let device = gpu.filter(|g| g.info.device_type != wgpu::DeviceType::Cpu);
+            let r = render_reference(scene, &rs, device, 16, |_| {})?;
+            crate::output::write_images(&path, b.width, b.height, &r.rgb)?;
+            write_sidecar(&path, &Sidecar { settings: rs.clone(), noise_rmse: Some(r.noise_rmse) })?;
+            Some(r.noise_rmse)
+        }
+    };
+    let (_, _, reference) = crate::output::read_exr(&path)?;
+    Ok((reference, noise))
+}
+
+/// Renders every method on one scene view, advancing them in turns to the same render times,
+/// appends a row per method and time to `rows`, then (on a device) profiles each method's
+/// passes into `profiles`. Returns each method's final image.
+#[allow(clippy::too_many_arguments)]
+fn equal_time(
+    b: &BenchSettings,
+    (label, view): (&str, u32),
+    scene: &SceneData,
+    reference: &[f32],
+    gpu: Option<&Gpu>,
+    rows: &mut Vec<Row>,
+    profiles: &mut Vec<Profile>,
+    log: &mut impl FnMut(&str),
+) -> anyhow::Result<Vec<Vec<f32>>> {
+    let candidates = b.candidates.unwrap_or(render::default_candidates(gpu));
+    let settings: Vec<Settings> = b
+        .methods
+        .iter()
+        .map(|m| Settings {
             width: b.width,
             height: b.height,
             max_depth: b.max_depth,
-            spp: b.reference_spp,
-            seed: b.seed.wrapping_add(1000),
-        };
-        let noise = match cached(&reference_path, &rs) {
-            Some(found) => found.noise_rmse,
-            None => {
-                let device = gpu.filter(|g| g.info.device_type != wgpu::DeviceType::Cpu);
-                let r = render_reference(&scene, &rs, device, 16, |_| {})?;
-                crate::output::write_images(&reference_path, b.width, b.height, &r.rgb)?;
-                write_sidecar(
-                    &reference_path,
-                    &Sidecar { settings: rs.clone(), noise_rmse: Some(r.noise_rmse) },
-                )?;
-                Some(r.noise_rmse)
-            }
-        };
-        noises.push((label.clone(), *view, noise));
-        let (_, _, reference) = crate::output::read_exr(&reference_path)?;
-        // One backend and one renderer per method, all on the same device.
-        let candidates = b.candidates.unwrap_or(match gpu {
-            Some(g) if g.info.device_type == wgpu::DeviceType::Cpu => 16384,
-            Some(_) => 262_144,
-            None => 4096,
-        });
-        let settings: Vec<Settings> = b
-            .methods
-            .iter()
-            .map(|m| Settings {
-                width: b.width,
-                height: b.height,
-                max_depth: b.max_depth,
-                seed: b.seed,
-                method: *m,
-                budget: Budget::Seconds(b.seconds),
-                candidates,
-                bootstrap_samples: 65536,
-                mutation: Default::default(),
-                shard: render::Shard::WHOLE,
-            })
-            .collect();
-        // One backend per method, all on the same device: the device's kept as such, for the
-        // per-pass profile after the equal-time runs.
-        let mut gpu_backends: Vec<GpuBackend> = Vec::new();
-        let mut cpu_backends: Vec<CpuBackend> = Vec::new();
-        for s in &settings {
-            let params = render::base_params(&scene, s);
-            match gpu {
-                Some(g) => gpu_backends.push(GpuBackend::new(g.clone(), &scene, &params)?),
-                None => cpu_backends.push(CpuBackend::new(&scene, &params, b.threads)?),
-            }
-        }
-        let mut renderers: Vec<Renderer> = Vec::new();
-        let backends = gpu_backends
-            .iter_mut()
-            .map(|g| g as &mut dyn Backend)
-            .chain(cpu_backends.iter_mut().map(|c| c as &mut dyn Backend));
-        for (s, backend) in settings.iter().zip(backends) {
-            renderers.push(Renderer::start(&scene, s, backend)?);
-        }
-        let mut last: Vec<Vec<f32>> = vec![Vec::new(); renderers.len()];
-        for t in time_grid(b.seconds) {
-            for (i, r) in renderers.iter_mut().enumerate() {
-                while r.stats().render_seconds < t {
-                    r.iterate()?;
-                }
-                let image = r.snapshot()?;
-                let st = &image.stats;
-                let row = Row {
-                    scene: label.clone(),
-                    view: *view,
-                    method: b.methods[i].to_string(),
-                    seconds: st.render_seconds,
-                    candidates: st.candidates,
-                    steps: st.steps,
-                    mutations_per_s: st.candidates as f64 / st.render_seconds,
-                    steps_per_s: st.steps / st.render_seconds,
-                    errors: errors(&image.rgb, &reference),
-                    nan_inf: st.invalid,
-                    b: st.b,
-                    b_rel_se: st.b_relative_standard_error(),
-                };
-                log(&row.csv());
-                rows.push(row);
-                last[i] = image.rgb;
-            }
-        }
-        // Inside an iteration: per-pass device times and the ray-casting ceiling, after the
-        // equal-time runs so that they do not disturb them.
-        let next: Vec<RenderParams> = renderers.iter().map(Renderer::next_params).collect();
-        drop(renderers);
-        for (i, device) in gpu_backends.iter_mut().enumerate() {
-            let method = b.methods[i].to_string();
-            let measured = final_row(&rows, &label, *view, &method).map_or(0.0, |r| r.mutations_per_s);
-            let p = profile(device, &scene, (&label, *view, &method), next[i], measured)?;
-            log(&format!("profile {}", p.csv()));
-            profiles.push(p);
-        }
-        // Final images and the heat maps of naive and of the best method, on one scale.
-        let finals: Vec<&Row> = rows.iter().rev().take(b.methods.len()).collect();
-        let best =
-            finals.iter().min_by(|a, b| a.errors.rmse.total_cmp(&b.errors.rmse)).map(|r| r.method.clone());
-        let scale = 2.0 * finals.iter().map(|r| r.errors.rmse).fold(0.0, f64::max).max(1e-6);
-        for (i, m) in b.methods.iter().enumerate() {
-            let stem = format!("{label}_v{view}_{m}");
-            crate::output::write_images(&b.out.join(format!("{stem}.exr")), b.width, b.height, &last[i])?;
-            if *m == Method::Tree(1) || Some(m.to_string()) == best {
-                heat_map(&last[i], &reference, b.width, b.height, scale)
-                    .save(b.out.join(format!("heat_{stem}.png")))?;
-            }
+            seed: b.seed,
+            method: *m,
+            budget: Budget::Seconds(b.seconds),
+            candidates,
+            bootstrap_samples: 65536,
+            mutation: Default::default(),
+            shard: render::Shard::WHOLE,
+        })
+        .collect();
+    // One backend per method, all on the same device: the device's kept as such, for the
+    // per-pass profile after the equal-time runs.
+    let mut gpu_backends: Vec<GpuBackend> = Vec::new();
+    let mut cpu_backends: Vec<CpuBackend> = Vec::new();
+    for s in &settings {
+        let params = render::base_params(scene, s);
+        match gpu {
+            Some(g) => gpu_backends.push(GpuBackend::new(g.clone(), scene, &params)?),
+            None => cpu_backends.push(CpuBackend::new(scene, &params, b.threads)?),
         }
     }
+    let mut renderers: Vec<Renderer> = Vec::new();
+    let backends = gpu_backends
+        .iter_mut()
+        .map(|g| g as &mut dyn Backend)
+        .chain(cpu_backends.iter_mut().map(|c| c as &mut dyn Backend));
+    for (s, backend) in settings.iter().zip(backends) {
+        renderers.push(Renderer::start(scene, s, backend)?);
+    }
+    let mut last: Vec<Vec<f32>> = vec![Vec::new(); renderers.len()];
+    for t in time_grid(b.seconds) {
+        for (i, r) in renderers.iter_mut().enumerate() {
+            while r.stats().render_seconds < t {
+                r.iterate()?;
+            }
+            let image = r.snapshot()?;
+            let st = &image.stats;
+            let row = Row {
+                scene: label.to_string(),
+                view,
+                method: b.methods[i].to_string(),
+                seconds: st.render_seconds,
+                candidates: st.candidates,
+                steps: st.steps,
+                mutations_per_s: st.candidates as f64 / st.render_seconds,
+                steps_per_s: st.steps / st.render_seconds,
+                errors: errors(&image.rgb, reference),
+                nan_inf: st.invalid,
+                b: st.b,
+                b_rel_se: st.b_relative_standard_error(),
+            };
+            log(&row.csv());
+            rows.push(row);
+            last[i] = image.rgb;
+        }
+    }
+    // Inside an iteration: per-pass device times and the ray-casting ceiling, after the
+    // equal-time runs so that they do not disturb them.
+    let next: Vec<RenderParams> = renderers.iter().map(Renderer::next_params).collect();
+    drop(renderers);
+    for (i, device) in gpu_backends.iter_mut().enumerate() {
+        let method = b.methods[i].to_string();
+        let measured = final_row(rows, label, view, &method).map_or(0.0, |r| r.mutations_per_s);
+        let p = profile(device, scene, (label, view, &method), next[i], measured)?;
+        log(&format!("profile {}", p.csv()));
+        profiles.push(p);
+    }
+    Ok(last)
+}
+
+/// Each method's final image, and the heat maps of naive and of the best method on one scale.
+fn write_finals(
+    b: &BenchSettings,
+    (label, view): (&str, u32),
+    rows: &[Row],
+    last: &[Vec<f32>],
+    reference: &[f32],
+) -> anyhow::Result<()> {
+    let finals: Vec<&Row> = rows.iter().rev().take(b.methods.len()).collect();
+    let best = finals.iter().min_by(|a, b| a.errors.rmse.total_cmp(&b.errors.rmse)).map(|r| r.method.clone());
+    let scale = 2.0 * finals.iter().map(|r| r.errors.rmse).fold(0.0, f64::max).max(1e-6);
+    for (i, m) in b.methods.iter().enumerate() {
+        let stem = format!("{label}_v{view}_{m}");
+        crate::output::write_images(&b.out.join(format!("{stem}.exr")), b.width, b.height, &last[i])?;
+        if *m == Method::Tree(1) || Some(m.to_string()) == best {
+            heat_map(&last[i], reference, b.width, b.height, scale)
+                .save(b.out.join(format!("heat_{stem}.png")))?;
+        }
+    }
+    Ok(())
+}
+
+/// `results.csv`, `passes.csv`, `tables.md` and the plots.
+fn write_results(
+    b: &BenchSettings,
+    rows: &[Row],
+    noises: &[(String, u32, Option<f64>)],
+    profiles: &[Profile],
+    log: &mut impl FnMut(&str),
+) -> anyhow::Result<()> {
+    let csv = |header: String, lines: Vec<String>| lines.iter().fold(header + "\n", |s, l| s + l + "\n");
     std::fs::write(
         b.out.join("results.csv"),
-        rows.iter().fold(format!("{CSV_HEADER}\n"), |mut s, r| {
-            s.push_str(&r.csv());
-            s.push('\n');
-            s
-        }),
+        csv(CSV_HEADER.to_string(), rows.iter().map(Row::csv).collect()),
     )?;
-    let mut tables = tables(b, &rows);
-    tables.push_str(&reference_table(b, &rows, &noises));
+    let mut tables = tables(b, rows);
+    tables.push_str(&reference_table(b, rows, noises));
     if profiles.is_empty() {
         log("no per-pass timings or ray ceiling: they need a Vulkan device (--device gpu)");
     } else {
         std::fs::write(
             b.out.join("passes.csv"),
-            profiles.iter().fold(format!("{}\n", crate::profile::csv_header()), |mut s, p| {
-                s.push_str(&p.csv());
-                s.push('\n');
-                s
-            }),
+            csv(crate::profile::csv_header(), profiles.iter().map(Profile::csv).collect()),
         )?;
-        tables.push_str(&crate::profile::tables(&profiles));
+        tables.push_str(&crate::profile::tables(profiles));
     }
     std::fs::write(b.out.join("tables.md"), tables)?;
-    plot(&rows, &b.out)?;
-    Ok(rows)
+    plot(rows, &b.out)
 }
 
 /// The last measurement of `method` on a scene view.

@@ -110,16 +110,6 @@ fn open_device(d: &DeviceArgs) -> anyhow::Result<Device> {
     }
 }
 
-/// Candidates per iteration when --candidates is absent: 262 144 on a GPU (the seed's Table
-/// 2), 16 384 on a CPU Vulkan driver (lavapipe), 4 096 on the CPU backend.
-fn default_candidates(gpu: Option<&Gpu>) -> u32 {
-    match gpu {
-        Some(g) if g.info.device_type == wgpu::DeviceType::Cpu => 16384,
-        Some(_) => 262_144,
-        None => 4096,
-    }
-}
-
 /// A scene file (or the embedded default) at a view, with the hash of its files.
 fn load_scene(path: Option<&Path>, view: u32) -> anyhow::Result<(SceneData, String)> {
     let (mut scene, hash) = match path {
@@ -439,7 +429,7 @@ fn render_command(a: RenderArgs) -> anyhow::Result<()> {
         seed: a.seed,
         method: a.method,
         budget,
-        candidates: a.candidates.unwrap_or(default_candidates(device.gpu.as_ref())),
+        candidates: a.candidates.unwrap_or(render::default_candidates(device.gpu.as_ref())),
         bootstrap_samples: a.bootstrap,
         mutation: MutationParams { p_large: a.p_large, ..Default::default() },
         shard: a.shard.unwrap_or(Shard::WHOLE),

@@ -24,8 +24,8 @@ pub fn connect(
         return;
     }
     let samples = Samples { candidate: k, count: params.candidates };
-    let c = connect_candidate(params, scene, cand_u, samples, &paths[k as usize], vertices);
-    contributions[k as usize] = pack_connection(&c);
+    let connection = connect_candidate(params, scene, cand_u, samples, &paths[k as usize], vertices);
+    contributions[k as usize] = pack_connection(&connection);
 }
 
 /// Entry point: one invocation per candidate.

@@ -36,7 +36,7 @@ pub fn mutate(
     if k >= params.candidates {
         return;
     }
-    let c = params.candidates;
+    let candidates = params.candidates;
     let groups = params.dims.div_ceil(4);
     if params.mode == MODE_BOOTSTRAP {
         cand_depth[k as usize] = bootstrap_depth(params.sample_offset + k, params.max_depth);
@@ -46,7 +46,7 @@ pub fn mutate(
             let u = rng::uniform4(key, rng::STREAM_LARGE_STEP, group);
             let mut lane = 0;
             while lane < 4 && 4 * group + lane < params.dims {
-                cand_u[soa_index(k, 4 * group + lane, c)] = u[lane as usize];
+                cand_u[soa_index(k, 4 * group + lane, candidates)] = u[lane as usize];
                 lane += 1;
             }
             group += 1;
@@ -90,7 +90,7 @@ pub fn mutate(
             let out = reject_chain_samples(current, j, large, key, group, &params.mutation);
             lane = 0;
             while lane < 4 && 4 * group + lane < params.dims {
-                cand_u[soa_index(k, 4 * group + lane, c)] = out[lane as usize];
+                cand_u[soa_index(k, 4 * group + lane, candidates)] = out[lane as usize];
                 lane += 1;
             }
             group += 1;
@@ -114,7 +114,7 @@ pub fn mutate(
         while lane < 4 && 4 * group + lane < params.dims {
             let dim = 4 * group + lane;
             let current = chain_u[soa_index(chain, dim, params.chains)];
-            cand_u[soa_index(k, dim, c)] =
+            cand_u[soa_index(k, dim, candidates)] =
                 tree_candidate_sample(current, j, large, &u[lane as usize], &params.mutation);
             lane += 1;
         }

@@ -20,15 +20,15 @@ pub fn raycast(
     rays: &[Ray],
     answers: &mut [u32],
 ) {
-    let c = params.candidates as usize;
-    if k >= c {
+    let candidates = params.candidates as usize;
+    if k >= candidates {
         return;
     }
     let mut sum = 0u32;
     let mut j = k;
     while j < rays.len() {
         sum = sum.wrapping_add(cast(nodes, triangles, &rays[j]));
-        j += c;
+        j += candidates;
     }
     answers[k] = sum;
 }

@@ -13,7 +13,7 @@ pub mod settings;
 pub use accumulation::Accumulation;
 pub use method::Method;
 pub use renderer::{normalisation, render, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};
-pub use settings::{base_params, Budget, Settings, Shard};
+pub use settings::{base_params, default_candidates, Budget, Settings, Shard};
 
 use shared::mmlt::{ChainState, RenderParams};
 

@@ -105,6 +105,16 @@ impl Settings {
     }
 }
 
+/// Candidates per iteration when none are given: 262 144 on a GPU (the seed's Table 2), 16 384
+/// on a CPU Vulkan driver (lavapipe), 4 096 on the CPU backend.
+pub fn default_candidates(gpu: Option<&crate::gpu::Gpu>) -> u32 {
+    match gpu {
+        Some(g) if g.info.device_type == wgpu::DeviceType::Cpu => 16384,
+        Some(_) => 262_144,
+        None => 4096,
+    }
+}
+
 /// The parameters shared by every dispatch of this shard's chains.
 pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
     let chains = s.shard_chains();
