@@ -3,8 +3,8 @@
 //! the same render times 1, 2, 4, … s), each compared with the scene's reference image.
 //!
 //! Writes to the output folder: `results.csv` (one row per method and time: scene, view,
-//! method, seconds, candidates, steps, mutations/s, steps/s, RMSE, relMSE, PSNR, and the
-//! candidates rejected as NaN/Inf — error along time, so convergence is a curve; one scene,
+//! method, seconds, candidates, steps, mutations/s, steps/s, RMSE, relMSE, PSNR, the
+//! candidates rejected as NaN/Inf, b and its relative standard error — error along time, so convergence is a curve; one scene,
 //! one method and a long time is the soak run), `tables.md` (the seed's Table 3: million mutations/s, and
 //! Table 4: PSNR after the full time), the plots of `plots` (`speedup.png`, the seed's Fig. 7,
 //! and `error_<scene>_v<view>.png`, RMSE against time on log–log axes), the final image of each
