@@ -7,11 +7,11 @@
 
 use std::path::{Path, PathBuf};
 
-use shared::mmlt::RenderParams;
+use shared::path_tracer::ReferenceParams;
 
 use crate::gpu::Gpu;
 use crate::passes;
-use crate::render::{self, RenderError, Settings};
+use crate::render::RenderError;
 use crate::scene::SceneData;
 
 /// What defines a reference image.
@@ -97,19 +97,18 @@ pub fn render_reference(
     per_pass: u32,
     mut progress: impl FnMut(f64),
 ) -> Result<Reference, RenderError> {
-    let settings = Settings {
+    let base = ReferenceParams {
+        camera: scene.camera(s.width, s.height),
         width: s.width,
         height: s.height,
         max_depth: s.max_depth,
         seed: s.seed,
-        method: render::Method::Tree(1),
-        budget: render::Budget::MutationsPerPixel(1.0),
-        candidates: 1,
-        bootstrap_samples: 1,
-        mutation: Default::default(),
-        shard: render::Shard::WHOLE,
+        light_count: scene.lights.len() as u32,
+        epsilon: scene.epsilon(),
+        samples: per_pass,
+        pass: 0,
+        samples_per_pass: per_pass,
     };
-    let base = RenderParams { candidates: per_pass, ..render::base_params(scene, &settings) };
     let pixels = (s.width * s.height) as usize;
     let passes_total = s.spp.div_ceil(per_pass);
     let mut sum = vec![0.0f64; pixels * 3];
@@ -145,13 +144,13 @@ pub fn render_reference(
             let pass =
                 passes::reference::gpu(gpu, [&params, &nodes, &triangles, &materials, &lights, &image])?;
             for i in 0..passes_total {
-                let p = RenderParams { iteration: i, candidates: per_pass.min(s.spp - i * per_pass), ..base };
+                let p = ReferenceParams { pass: i, samples: per_pass.min(s.spp - i * per_pass), ..base };
                 gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 pass.encode(gpu, &mut encoder, pixels as u32);
                 gpu.queue.submit([encoder.finish()]);
                 let part: Vec<f32> = gpu.read(&image, pixels * 3)?;
-                add_pass(&part, p.candidates);
+                add_pass(&part, p.samples);
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 encoder.clear_buffer(&image, 0, None);
                 gpu.queue.submit([encoder.finish()]);
@@ -162,10 +161,10 @@ pub fn render_reference(
             let shared_scene = scene.shared();
             let mut image = vec![0.0f32; pixels * 3];
             for i in 0..passes_total {
-                let p = RenderParams { iteration: i, candidates: per_pass.min(s.spp - i * per_pass), ..base };
+                let p = ReferenceParams { pass: i, samples: per_pass.min(s.spp - i * per_pass), ..base };
                 image.iter_mut().for_each(|v| *v = 0.0);
                 passes::reference::cpu(&p, shared_scene, &mut image);
-                add_pass(&image, p.candidates);
+                add_pass(&image, p.samples);
                 progress((i + 1) as f64 / passes_total as f64);
             }
         }

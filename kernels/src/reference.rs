@@ -1,17 +1,17 @@
-//! The `reference` pass: one invocation per pixel adds `params.candidates` path-traced samples
-//! (`shared::path_tracer`, pass `params.iteration`) to its own pixel of an f32 image, which the
+//! The `reference` pass: one invocation per pixel adds `params.samples` path-traced samples
+//! (`shared::path_tracer`, pass `params.pass`) to its own pixel of an f32 image, which the
 //! host drains into f64 after every pass.
 
 use shared::bsdf::Material;
 use shared::bvh::{BvhNode, Triangle};
 use shared::light::LightEntry;
-use shared::mmlt::{RenderParams, Scene};
-use shared::path_tracer::pixel_pass;
+use shared::mmlt::Scene;
+use shared::path_tracer::{pixel_pass, ReferenceParams};
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
 /// The kernel body for pixel `i`.
-pub fn reference(i: usize, params: &RenderParams, scene: Scene, image: &mut [f32]) {
+pub fn reference(i: usize, params: &ReferenceParams, scene: Scene, image: &mut [f32]) {
     if i as u32 >= params.width * params.height {
         return;
     }
@@ -25,7 +25,7 @@ pub fn reference(i: usize, params: &RenderParams, scene: Scene, image: &mut [f32
 #[spirv(compute(threads(64), entry_point_name = "reference_cs"))]
 pub fn reference_cs(
     #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[ReferenceParams],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNode],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[Triangle],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] materials: &[Material],

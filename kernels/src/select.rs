@@ -63,6 +63,26 @@ fn targets<const N: usize>(root: Vec4, contributions: &[Vec4], base: u32, states
     c
 }
 
+/// The splat records of chain `p`'s `states` distinct states: the current state (`root`) and
+/// its candidates (`contributions[base..]`), with targets `c` and expected-steps weights
+/// `weight`.
+fn write_splats<const N: usize>(
+    p: u32,
+    states: u32,
+    root: Vec4,
+    (contributions, base): (&[Vec4], u32),
+    c: &[f32; N],
+    weight: &[f32; N],
+    splats: &mut [Vec4],
+) {
+    let mut s = 0;
+    while s < states {
+        let v = if s == 0 { root } else { contributions[(base + s - 1) as usize] };
+        splats[(p * states + s) as usize] = splat_record(v, c[s as usize], weight[s as usize]);
+        s += 1;
+    }
+}
+
 /// The speculative tree: Eq. 2 leaf probabilities, generalised Eq. 3 weights.
 fn select_tree(
     p: u32,
@@ -79,12 +99,7 @@ fn select_tree(
     let mut leaf = [0.0f32; MAX_TREE_LEAVES];
     let mut weight = [0.0f32; MAX_TREE_STATES];
     tree::evaluate_tree(d, &c, &mut accept, &mut leaf, &mut weight);
-    let mut s = 0;
-    while s < states {
-        let v = if s == 0 { root } else { contributions[(base + s - 1) as usize] };
-        splats[(p * states + s) as usize] = splat_record(v, c[s as usize], weight[s as usize]);
-        s += 1;
-    }
+    write_splats(p, states, root, (contributions, base), &c, &weight, splats);
     Decision {
         next: tree::select_next_state(d, &leaf, selection_uniform(params, p)),
         accepted: tree::expected_acceptances(d, &leaf),
@@ -109,12 +124,7 @@ fn select_reject_chain(
     let mut next = [0.0f32; MAX_REJECT_CHAIN_STATES];
     let mut weight = [0.0f32; MAX_REJECT_CHAIN_STATES];
     let steps = reject_chain::evaluate_reject_chain(l, &c, &mut accept, &mut next, &mut weight);
-    let mut s = 0;
-    while s < states {
-        let v = if s == 0 { root } else { contributions[(base + s - 1) as usize] };
-        splats[(p * states + s) as usize] = splat_record(v, c[s as usize], weight[s as usize]);
-        s += 1;
-    }
+    write_splats(p, states, root, (contributions, base), &c, &weight, splats);
     Decision {
         next: reject_chain::select_next_state(l, &next, selection_uniform(params, p)),
         // The chain moves (accepts once) with probability 1 − R_{l+1}.

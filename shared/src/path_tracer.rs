@@ -16,9 +16,36 @@ use glam::{Vec2, Vec3};
 
 use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample};
 use crate::bvh::{closest_hit, occluded, NO_HIT};
+use crate::camera::Camera;
 use crate::light::emitted;
-use crate::mmlt::{sample_light, spawn, RenderParams, Scene};
+use crate::mmlt::{sample_light, spawn, Scene};
 use crate::rng::{self, RngKey};
+
+/// What the reference pass knows (uploaded before each of its passes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ReferenceParams {
+    /// The camera.
+    pub camera: Camera,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Maximum number of bounces (pbrt's maxdepth).
+    pub max_depth: u32,
+    /// The seed.
+    pub seed: u32,
+    /// Entries of the light CDF.
+    pub light_count: u32,
+    /// Ray-origin offset, relative to the scene's size.
+    pub epsilon: f32,
+    /// Samples per pixel in this pass.
+    pub samples: u32,
+    /// The pass: its samples are numbers `pass · samples_per_pass + i`.
+    pub pass: u32,
+    /// Samples per pixel of a full pass (the numbering stride).
+    pub samples_per_pass: u32,
+}
 
 /// Power heuristic weight of a technique with density `a` against one with density `b`.
 #[inline]
@@ -33,7 +60,7 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
 
 /// The eight uniforms of vertex `v` of sample `sample` of `pixel`.
 #[inline]
-fn vertex_uniforms(params: &RenderParams, pixel: u32, sample: u32, v: u32) -> [f32; 8] {
+fn vertex_uniforms(params: &ReferenceParams, pixel: u32, sample: u32, v: u32) -> [f32; 8] {
     let key = RngKey { seed: params.seed, chain: pixel, iteration: sample, dimension: 0 };
     let a = rng::uniform4(key, rng::STREAM_REFERENCE, 2 * v);
     let b = rng::uniform4(key, rng::STREAM_REFERENCE, 2 * v + 1);
@@ -42,7 +69,7 @@ fn vertex_uniforms(params: &RenderParams, pixel: u32, sample: u32, v: u32) -> [f
 
 /// One path-traced estimate of the radiance through a uniform point of pixel `pixel`.
 #[inline]
-pub fn pixel_sample(params: &RenderParams, scene: Scene, pixel: u32, sample: u32) -> Vec3 {
+pub fn pixel_sample(params: &ReferenceParams, scene: Scene, pixel: u32, sample: u32) -> Vec3 {
     let cam = params.camera;
     let width = params.width;
     let u0 = vertex_uniforms(params, pixel, sample, 0);
@@ -126,13 +153,13 @@ pub fn pixel_sample(params: &RenderParams, scene: Scene, pixel: u32, sample: u32
     radiance
 }
 
-/// `params.candidates` samples of pixel `pixel` for pass `params.iteration`, summed.
+/// `params.samples` samples of pixel `pixel` for pass `params.pass`, summed.
 #[inline]
-pub fn pixel_pass(params: &RenderParams, scene: Scene, pixel: u32) -> Vec3 {
+pub fn pixel_pass(params: &ReferenceParams, scene: Scene, pixel: u32) -> Vec3 {
     let mut sum = Vec3::ZERO;
     let mut i = 0;
-    while i < params.candidates {
-        let l = pixel_sample(params, scene, pixel, params.iteration * params.candidates + i);
+    while i < params.samples {
+        let l = pixel_sample(params, scene, pixel, params.pass * params.samples_per_pass + i);
         // A NaN or infinite sample is dropped, not averaged in.
         if l.is_finite() {
             sum += l;

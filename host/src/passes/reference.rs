@@ -2,7 +2,8 @@
 //! runs over the pixels in parallel (each pixel is its own output).
 
 use rayon::prelude::*;
-use shared::mmlt::{RenderParams, Scene};
+use shared::mmlt::Scene;
+use shared::path_tracer::ReferenceParams;
 
 use super::{Binding, Pass};
 use crate::gpu::{Gpu, GpuError};
@@ -25,7 +26,7 @@ pub fn gpu(gpu: &Gpu, buffers: [&wgpu::Buffer; 6]) -> Result<Pass, GpuError> {
 }
 
 /// The same body on the CPU: adds one pass of samples to every pixel of `image` (rgb).
-pub fn cpu(params: &RenderParams, scene: Scene, image: &mut [f32]) {
+pub fn cpu(params: &ReferenceParams, scene: Scene, image: &mut [f32]) {
     image.par_chunks_mut(3).enumerate().for_each(|(i, px)| {
         let sum = shared::path_tracer::pixel_pass(params, scene, i as u32);
         px[0] += sum.x;
