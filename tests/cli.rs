@@ -328,6 +328,8 @@ fn the_bench_writes_a_well_formed_csv() {
         "16",
         "--candidates",
         "1000",
+        "--repeats",
+        "2",
         "--device",
         device,
         "--out",
@@ -339,11 +341,12 @@ fn the_bench_writes_a_well_formed_csv() {
     let header = lines.next().unwrap();
     assert_eq!(header, smlt::bench::CSV_HEADER);
     assert!(header.starts_with(
-        "scene,view,method,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr"
+        "scene,view,method,repeat,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr"
     ));
     let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(String::from).collect()).collect();
-    // 2 scene views × 3 methods × 2 times (1 s and 1.5 s).
-    assert_eq!(rows.len(), 12, "{csv}");
+    // 2 scene views × 3 methods × 2 repeats × 2 times (1 s and 1.5 s).
+    assert_eq!(rows.len(), 24, "{csv}");
+    assert_eq!(rows.iter().filter(|r| r[3] == "1").count(), 12, "half the rows are the second repeat");
     for r in &rows {
         assert_eq!(r.len(), header.split(',').count(), "{r:?} against {header}");
         assert!(["naive", "s2", "rc2"].contains(&r[2].as_str()));
@@ -354,6 +357,7 @@ fn the_bench_writes_a_well_formed_csv() {
     }
     let tables = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     assert!(tables.contains("Million mutations") && tables.contains("PSNR") && tables.contains("| rc2 |"));
+    assert!(tables.contains("relMSE") && tables.contains(" ± "), "means with intervals: {tables}");
     assert!(dir.join("heat_cornell_v1_naive.png").exists());
     if device == "gpu" {
         // Inside an iteration: a profile per scene view and method, every number positive.
@@ -384,7 +388,7 @@ fn the_bench_writes_a_well_formed_csv() {
     let again = dir.join("again");
     let (ok, stdout, stderr) =
         smlt(&["plot", dir.join("results.csv").to_str().unwrap(), "--out", again.to_str().unwrap()]);
-    assert!(ok && stdout.contains("12 rows"), "{stderr}");
+    assert!(ok && stdout.contains("24 rows"), "{stderr}");
     assert!(again.join("speedup.png").exists());
     assert!(dir.join("reference_atrium_v2.exr.json").exists());
     std::fs::remove_dir_all(&dir).unwrap();

@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod gpu;
+pub mod interval;
 pub mod metrics;
 pub mod output;
 pub mod part;

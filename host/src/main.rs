@@ -322,6 +322,14 @@ struct BenchArgs {
     tessellation: u32,
     #[command(flatten)]
     device: DeviceArgs,
+    /// Independent runs of every method (seeds seed, seed + 1, …): tables and plots show the
+    /// mean and its 95 % confidence interval.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100))]
+    repeats: u32,
+    /// Use this EXR as the reference instead of rendering one (one scene view only; it must
+    /// have the bench's resolution).
+    #[arg(long)]
+    reference: Option<PathBuf>,
     /// Output folder.
     #[arg(long, default_value = "bench")]
     out: PathBuf,
@@ -710,6 +718,8 @@ fn bench_command(a: BenchArgs) -> anyhow::Result<()> {
         candidates: a.candidates,
         tessellation: a.tessellation,
         threads: device.threads,
+        repeats: a.repeats,
+        reference: a.reference.clone(),
         out: a.out.clone(),
     };
     smlt::bench::run(&settings, gpu.as_ref(), |line| println!("{line}"))?;

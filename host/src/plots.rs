@@ -1,14 +1,15 @@
 //! The bench's plots, drawn with plotters (text in the embedded DejaVu Sans, so no system font
 //! library is needed): the seed's Fig. 7 — speedup of candidates/s over naive against the
 //! candidate-set size per chain, trees and reject chains per scene view — and the error
-//! against time on log–log axes, one line per method.
+//! against time on log–log axes, one line per method: the mean over the repeats, with the 95 %
+//! interval as error bars when there are several.
 
 use std::path::Path;
 use std::sync::Once;
 
 use plotters::prelude::*;
 
-use crate::bench::Row;
+use crate::bench::{along_time, final_interval, Row};
 use crate::render::Method;
 
 static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
@@ -31,28 +32,29 @@ fn views(rows: &[Row]) -> Vec<(String, u32)> {
     v
 }
 
-fn last<'a>(rows: &'a [Row], scene: &str, view: u32, method: &str) -> Option<&'a Row> {
-    rows.iter().rfind(|r| r.scene == scene && r.view == view && r.method == method)
-}
-
 /// Fig. 7: speedup of candidates/s over naive (final measurements) against candidates per
 /// chain (2^d − 1 for s<d>, l for rc<l>), on a log axis.
 pub fn speedup_plot(rows: &[Row], path: &Path) -> anyhow::Result<()> {
     register_font();
     let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let speed = |r: &Row| r.mutations_per_s;
     for (scene, view) in views(rows) {
-        let Some(naive) = last(rows, &scene, view, "naive") else { continue };
+        let Some(naive) = final_interval(rows, &scene, view, "naive", speed) else { continue };
+        let mut methods: Vec<&str> = Vec::new();
+        for r in rows.iter().filter(|r| r.scene == scene && r.view == view) {
+            if !methods.contains(&r.method.as_str()) {
+                methods.push(&r.method);
+            }
+        }
         for (family, prefix) in [("SMLT", 's'), ("RCMLT", 'r')] {
             let mut points = vec![(1.0, 1.0)];
-            for r in
-                rows.iter().filter(|r| r.scene == scene && r.view == view && r.method.starts_with(prefix))
-            {
-                if last(rows, &scene, view, &r.method).map(|x| std::ptr::eq(x, r)) != Some(true) {
+            for name in methods.iter().filter(|m| m.starts_with(prefix)) {
+                let (Ok(m), Some(x)) =
+                    (name.parse::<Method>(), final_interval(rows, &scene, view, name, speed))
+                else {
                     continue;
-                }
-                if let Ok(m) = r.method.parse::<Method>() {
-                    points.push((m.candidates_per_chain() as f64, r.mutations_per_s / naive.mutations_per_s));
-                }
+                };
+                points.push((m.candidates_per_chain() as f64, x.mean / naive.mean));
             }
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
             if points.len() > 1 {
@@ -89,7 +91,8 @@ pub fn speedup_plot(rows: &[Row], path: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// RMSE against render time for one scene view, log–log, one line per method.
+/// RMSE against render time for one scene view, log–log, one line per method (the mean over
+/// the repeats, with error bars of the 95 % interval).
 pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::Result<()> {
     register_font();
     let mine: Vec<&Row> =
@@ -97,12 +100,20 @@ pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::
     if mine.is_empty() {
         return Ok(());
     }
-    let (mut t0, mut t1, mut e0, mut e1) = (f64::MAX, 0.0f64, f64::MAX, 0.0f64);
+    let mut methods: Vec<&str> = Vec::new();
     for r in &mine {
-        t0 = t0.min(r.seconds);
-        t1 = t1.max(r.seconds);
-        e0 = e0.min(r.errors.rmse);
-        e1 = e1.max(r.errors.rmse);
+        if !methods.contains(&r.method.as_str()) {
+            methods.push(&r.method);
+        }
+    }
+    let curves: Vec<Vec<(f64, crate::interval::Interval)>> =
+        methods.iter().map(|m| along_time(rows, scene, view, m, |r| r.errors.rmse)).collect();
+    let (mut t0, mut t1, mut e0, mut e1) = (f64::MAX, 0.0f64, f64::MAX, 0.0f64);
+    for (t, e) in curves.iter().flatten() {
+        t0 = t0.min(*t);
+        t1 = t1.max(*t);
+        e0 = e0.min(e.low().max(e.mean * 0.5));
+        e1 = e1.max(e.high());
     }
     let root = BitMapBackend::new(path, (900, 560)).into_drawing_area();
     root.fill(&WHITE)?;
@@ -111,7 +122,11 @@ pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(70)
-        .build_cartesian_2d((t0 * 0.9..t1 * 1.1).log_scale(), (e0 * 0.8..e1 * 1.25).log_scale())?;
+        // A log axis shows labels only across a decade or more.
+        .build_cartesian_2d(
+            (t0 * 0.9..t1 * 1.1).log_scale(),
+            ((e0 * 0.8).min(e1 * 0.125)..e1 * 1.25).log_scale(),
+        )?;
     chart
         .configure_mesh()
         .x_desc("render seconds")
@@ -120,20 +135,16 @@ pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::
         .y_label_formatter(&|v| format!("{v:.3}"))
         .x_label_formatter(&|v| format!("{v:.0}"))
         .draw()?;
-    let mut methods: Vec<&str> = Vec::new();
-    for r in &mine {
-        if !methods.contains(&r.method.as_str()) {
-            methods.push(&r.method);
-        }
-    }
-    for (i, m) in methods.iter().enumerate() {
+    for (i, (m, curve)) in methods.iter().zip(&curves).enumerate() {
         let colour = Palette99::pick(i).to_rgba();
-        let points: Vec<(f64, f64)> =
-            mine.iter().filter(|r| r.method == *m).map(|r| (r.seconds, r.errors.rmse)).collect();
+        let points: Vec<(f64, f64)> = curve.iter().map(|(t, e)| (*t, e.mean)).collect();
         chart
             .draw_series(LineSeries::new(points, colour.stroke_width(2)))?
             .label(m.to_string())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
+        chart.draw_series(curve.iter().filter(|(_, e)| e.n > 1).map(|(t, e)| {
+            ErrorBar::new_vertical(*t, e.low().max(e0), e.mean, e.high(), colour.stroke_width(1), 6)
+        }))?;
     }
     chart.configure_series_labels().background_style(WHITE.mix(0.85)).border_style(BLACK).draw()?;
     root.present()?;
