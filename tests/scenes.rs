@@ -98,3 +98,28 @@ fn the_sunblind_light_is_invisible_from_the_room() {
     let _ = light;
     assert_eq!(through, 0, "{through} lines from the room reach the light");
 }
+
+/// The seed's Sponza with a specular banner, written from the Dabrovic Sponza in
+/// `../shared/scenes/` (not committed: no licence terms): the model plus a Phong-1e5 banner and a
+/// sun, two views, and the model's own buffer found from wherever the variant is written.
+#[test]
+fn the_sponza_banner_variant_is_the_sponza_plus_a_banner_and_a_sun() {
+    let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/scenes/sponza_dabrovic/sponza_dabrovic.gltf");
+    if !source.exists() {
+        assert_ne!(std::env::var("CI").as_deref(), Ok("true"), "CI=true and no {}", source.display());
+        eprintln!("SKIPPED: no {}", source.display());
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("smlt-sponza-banner-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("sponza_banner.gltf");
+    std::fs::write(&out, smlt::scenes::sponza_banner::sponza_banner(&source, &out).unwrap()).unwrap();
+    let sponza = SceneData::load(&source).unwrap();
+    let banner = SceneData::load(&out).unwrap();
+    assert_eq!(banner.triangles.len(), sponza.triangles.len() + 4, "a banner quad and a sun quad");
+    assert_eq!(banner.views.len(), 2);
+    assert_eq!(banner.lights.len(), sponza.lights.len() + 2, "the sun's two triangles emit");
+    assert!(banner.materials.iter().any(|m| m.phong_exponent == 1e5), "a Phong-1e5 banner");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -375,7 +375,7 @@ enum Command {
     },
     /// Writes one of the generated scenes as glTF.
     Scene {
-        /// Scene name: cornell, atrium, nave, sunblind or slit.
+        /// Scene name: cornell, atrium, nave, sunblind, slit, or sponza-banner (with --from).
         name: String,
         /// Output .gltf path.
         #[arg(long)]
@@ -383,6 +383,9 @@ enum Command {
         /// Split every quad n × n times (raises the triangle count; the image stays the same).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
         tessellation: u32,
+        /// The source a variant is written from (sponza-banner: the Dabrovic Sponza glTF).
+        #[arg(long)]
+        from: Option<PathBuf>,
     },
 }
 
@@ -737,9 +740,18 @@ fn plot_command(csv: &Path, out: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn scene_command(name: &str, out: &PathBuf, tessellation: u32) -> anyhow::Result<()> {
-    let Some(text) = smlt::scenes::generate(name, tessellation) else {
-        anyhow::bail!("unknown scene '{name}': known scenes are cornell, atrium, nave, sunblind and slit");
+fn scene_command(name: &str, out: &PathBuf, tessellation: u32, from: Option<&Path>) -> anyhow::Result<()> {
+    let text = match (name, from) {
+        ("sponza-banner", Some(from)) => smlt::scenes::sponza_banner::sponza_banner(from, out)?,
+        ("sponza-banner", None) => anyhow::bail!(
+            "sponza-banner is written from the Dabrovic Sponza: add --from PATH/sponza_dabrovic.gltf"
+        ),
+        _ => match smlt::scenes::generate(name, tessellation) {
+            Some(text) => text,
+            None => anyhow::bail!(
+                "unknown scene '{name}': known scenes are cornell, atrium, nave, sunblind, slit and sponza-banner"
+            ),
+        },
     };
     std::fs::write(out, text).map_err(|e| anyhow::anyhow!("cannot write {}: {e}", out.display()))?;
     println!("wrote {}", out.display());
@@ -775,7 +787,9 @@ fn main() -> ExitCode {
         Command::Reference(a) => reference_command(a),
         Command::Bench(a) => bench_command(a),
         Command::Plot { csv, out } => plot_command(&csv, &out),
-        Command::Scene { name, out, tessellation } => scene_command(&name, &out, tessellation),
+        Command::Scene { name, out, tessellation, from } => {
+            scene_command(&name, &out, tessellation, from.as_deref())
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,6 +5,7 @@ pub mod atrium;
 pub mod cornell;
 pub mod nave;
 pub mod slit;
+pub mod sponza_banner;
 pub mod sunblind;
 
 use base64::Engine;
@@ -137,6 +138,13 @@ impl GltfBuilder {
 
     /// The document as glTF JSON text.
     pub fn to_json(&self) -> String {
+        let mut text = serde_json::to_string_pretty(&self.to_value()).expect("JSON");
+        text.push('\n');
+        text
+    }
+
+    /// The document as a JSON value.
+    pub fn to_value(&self) -> Value {
         let mut bytes: Vec<u8> = Vec::new();
         let mut views = Vec::new();
         let mut accessors = Vec::new();
@@ -197,8 +205,62 @@ impl GltfBuilder {
         if uses_strength {
             doc["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
         }
-        let mut text = serde_json::to_string_pretty(&doc).expect("JSON");
-        text.push('\n');
-        text
+        doc
+    }
+
+    /// Adds this builder's meshes, materials and cameras to the glTF document `base` (its first
+    /// scene gets the new nodes; the new cameras follow the document's own, as further views).
+    pub fn merge_into(&self, base: &mut Value) {
+        let add = self.to_value();
+        let count = |doc: &Value, key: &str| doc.get(key).and_then(Value::as_array).map_or(0, Vec::len);
+        let offsets: Vec<(&str, usize)> =
+            ["buffers", "bufferViews", "accessors", "meshes", "materials", "cameras", "nodes"]
+                .iter()
+                .map(|k| (*k, count(base, k)))
+                .collect();
+        let offset = |key: &str| offsets.iter().find(|(k, _)| *k == key).map_or(0, |(_, o)| *o);
+        let shift = |v: &mut Value, field: &str, by: usize| {
+            if let Some(i) = v.get(field).and_then(Value::as_u64) {
+                v[field] = json!(i as usize + by);
+            }
+        };
+        let mut new_nodes = Vec::new();
+        for key in ["buffers", "bufferViews", "accessors", "meshes", "materials", "cameras", "nodes"] {
+            let Some(items) = add.get(key).and_then(Value::as_array) else { continue };
+            for item in items {
+                let mut item = item.clone();
+                match key {
+                    "bufferViews" => shift(&mut item, "buffer", offset("buffers")),
+                    "accessors" => shift(&mut item, "bufferView", offset("bufferViews")),
+                    "meshes" => {
+                        for p in item["primitives"].as_array_mut().into_iter().flatten() {
+                            shift(&mut p["attributes"], "POSITION", offset("accessors"));
+                            shift(p, "material", offset("materials"));
+                        }
+                    }
+                    "nodes" => {
+                        shift(&mut item, "mesh", offset("meshes"));
+                        shift(&mut item, "camera", offset("cameras"));
+                        new_nodes.push(json!(offset("nodes") + new_nodes.len()));
+                    }
+                    _ => {}
+                }
+                if !base.get(key).is_some_and(Value::is_array) {
+                    base[key] = json!([]);
+                }
+                base[key].as_array_mut().expect("array").push(item);
+            }
+        }
+        base["scenes"][0]["nodes"].as_array_mut().expect("the document has a scene").extend(new_nodes);
+        if let Some(used) = add.get("extensionsUsed").and_then(Value::as_array) {
+            let list = base["extensionsUsed"].as_array().cloned().unwrap_or_default();
+            let mut list: Vec<Value> = list;
+            for e in used {
+                if !list.contains(e) {
+                    list.push(e.clone());
+                }
+            }
+            base["extensionsUsed"] = Value::Array(list);
+        }
     }
 }
