@@ -384,12 +384,17 @@ fn the_bench_writes_a_well_formed_csv() {
         let img = image::open(dir.join(plot)).unwrap_or_else(|e| panic!("{plot}: {e}"));
         assert!(img.width() >= 800 && img.height() >= 500);
     }
-    // The plots can be redrawn from the CSV alone.
+    // The plots and tables can be redrawn from the CSV alone, also with a peer's rows added.
     let again = dir.join("again");
+    let mut with_peer = csv.clone();
+    with_peer.push_str("cornell,1,mitsuba-path,0,1.000,1000,1000,1000.0,1000.0,1e-1,1e-1,20.000,0,nan,nan\n");
+    std::fs::write(dir.join("with_peer.csv"), with_peer).unwrap();
     let (ok, stdout, stderr) =
-        smlt(&["plot", dir.join("results.csv").to_str().unwrap(), "--out", again.to_str().unwrap()]);
-    assert!(ok && stdout.contains("24 rows"), "{stderr}");
+        smlt(&["plot", dir.join("with_peer.csv").to_str().unwrap(), "--out", again.to_str().unwrap()]);
+    assert!(ok && stdout.contains("25 rows"), "{stderr}");
     assert!(again.join("speedup.png").exists());
+    let tables = std::fs::read_to_string(again.join("tables.md")).unwrap();
+    assert!(tables.contains("| mitsuba-path |") && tables.contains("Efficiency"), "{tables}");
     assert!(dir.join("reference_atrium_v2.exr.json").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

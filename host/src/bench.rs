@@ -489,7 +489,8 @@ fn write_results(
         b.out.join("results.csv"),
         csv(CSV_HEADER.to_string(), rows.iter().map(Row::csv).collect()),
     )?;
-    let mut tables = tables(b, rows);
+    let methods: Vec<String> = b.methods.iter().map(Method::to_string).collect();
+    let mut tables = tables(&methods, b.seconds, rows);
     tables.push_str(&reference_table(b, rows, noises));
     if profiles.is_empty() {
         log("no per-pass timings or ray ceiling: they need a Vulkan device (--device gpu)");
@@ -513,7 +514,7 @@ fn final_row<'a>(rows: &'a [Row], scene: &str, view: u32, method: &str) -> Optio
 /// and relMSE, as Markdown: methods down, scene views across, each cell the mean over the
 /// repeats of the final measurements with its 95 % interval; a cell is bold where that method
 /// is best and its interval overlaps no other method's.
-pub fn tables(b: &BenchSettings, rows: &[Row]) -> String {
+pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
     let columns: Vec<(String, u32)> = {
         let mut c: Vec<(String, u32)> = Vec::new();
         for r in rows {
@@ -531,21 +532,29 @@ pub fn tables(b: &BenchSettings, rows: &[Row]) -> String {
     let header = columns.iter().map(|(s, v)| format!(" {s} v{v} |")).collect::<String>();
     let rule = "---|".repeat(columns.len());
     type Value = fn(&Row) -> f64;
-    let tables: [(String, Value, usize, bool); 5] = [
-        ("Million mutations (candidates) per second".into(), |r| r.mutations_per_s / 1e6, 3, true),
+    let tables: [(String, Value, usize, bool); 6] = [
+        (
+            "Million mutations (candidates; a peer's paths) per second".into(),
+            |r| r.mutations_per_s / 1e6,
+            3,
+            true,
+        ),
         ("Speedup of mutations/s over naive (ratio of the means)".into(), |r| r.mutations_per_s, 2, true),
-        (format!("PSNR (dB, peak 1 on clamped values) after {} s", b.seconds), |r| r.errors.psnr, 2, true),
-        (format!("RMSE after {} s", b.seconds), |r| r.errors.rmse, 4, false),
-        (format!("relMSE after {} s", b.seconds), |r| r.errors.relmse, 4, false),
+        (format!("PSNR (dB, peak 1 on clamped values) after {seconds} s"), |r| r.errors.psnr, 2, true),
+        (format!("RMSE after {seconds} s"), |r| r.errors.rmse, 4, false),
+        (format!("relMSE after {seconds} s"), |r| r.errors.relmse, 4, false),
+        (
+            format!("Efficiency 1 / (relMSE × seconds) after {seconds} s"),
+            |r| 1.0 / (r.errors.relmse * r.seconds),
+            3,
+            true,
+        ),
     ];
     for (t, (title, value, decimals, higher)) in tables.iter().enumerate() {
         let _ = writeln!(out, "### {title}\n\n| method |{header}\n|---|{rule}");
-        let cells: Vec<Vec<Option<Interval>>> = b
-            .methods
+        let cells: Vec<Vec<Option<Interval>>> = methods
             .iter()
-            .map(|m| {
-                columns.iter().map(|(s, v)| final_interval(rows, s, *v, &m.to_string(), value)).collect()
-            })
+            .map(|m| columns.iter().map(|(s, v)| final_interval(rows, s, *v, m, value)).collect())
             .collect();
         let best: Vec<Option<usize>> = (0..columns.len())
             .map(|c| {
@@ -556,7 +565,7 @@ pub fn tables(b: &BenchSettings, rows: &[Row]) -> String {
                 clear_best(&column, *higher)
             })
             .collect();
-        for (i, m) in b.methods.iter().enumerate() {
+        for (i, m) in methods.iter().enumerate() {
             let text: String = (0..columns.len())
                 .map(|c| match (t, cells[i][c]) {
                     (_, None) => " — |".to_string(),

@@ -337,7 +337,8 @@ struct BenchArgs {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Draws the bench's plots (speedup.png, error_<scene>_v<view>.png) from a results.csv.
+    /// Draws the bench's plots (speedup.png, error_<scene>_v<view>.png) and tables.md from a
+    /// results.csv (also one that holds peers' rows).
     Plot {
         /// The bench's results.csv.
         csv: PathBuf,
@@ -736,7 +737,17 @@ fn plot_command(csv: &Path, out: &Path) -> anyhow::Result<()> {
     let rows = smlt::bench::read_csv(&text).map_err(|e| anyhow::anyhow!("{}: {e}", csv.display()))?;
     std::fs::create_dir_all(out)?;
     smlt::bench::plot(&rows, out)?;
-    println!("wrote the plots of {} rows to {}", rows.len(), out.display());
+    // The tables of every method in the file (the bench's own and peers' rows alike), at the
+    // longest time measured.
+    let mut methods: Vec<String> = Vec::new();
+    for r in &rows {
+        if !methods.contains(&r.method) {
+            methods.push(r.method.clone());
+        }
+    }
+    let seconds = rows.iter().map(|r| r.seconds).fold(0.0, f64::max).round();
+    std::fs::write(out.join("tables.md"), smlt::bench::tables(&methods, seconds, &rows))?;
+    println!("wrote the plots and tables.md of {} rows to {}", rows.len(), out.display());
     Ok(())
 }
 

@@ -1,0 +1,120 @@
+"""Reads the glTF scenes smlt renders (the subset smlt reads: triangle meshes with node
+transforms, baseColorFactor, emissiveFactor x KHR_materials_emissive_strength, the Phong
+exponent in the material's extras, perspective cameras in depth-first scene order) into plain
+numpy arrays, for the peers' converters."""
+
+import base64
+import json
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+
+PHONG_KEY = "smlt_phong_exponent"
+COMPONENT = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
+WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
+
+
+@dataclass
+class Material:
+    name: str
+    albedo: tuple
+    emission: tuple  # radiance (factor x strength)
+    phong: float  # 0: Lambertian
+
+
+@dataclass
+class Camera:
+    position: np.ndarray
+    forward: np.ndarray
+    up: np.ndarray
+    yfov: float  # radians
+    aspect: float | None
+
+
+@dataclass
+class Scene:
+    materials: list
+    triangles: dict = field(default_factory=dict)  # material index -> (n, 3, 3) world-space vertices
+    cameras: list = field(default_factory=list)
+
+
+def _node_matrix(node):
+    if "matrix" in node:
+        return np.array(node["matrix"], dtype=np.float64).reshape(4, 4).T
+    t = np.eye(4)
+    t[:3, 3] = node.get("translation", [0, 0, 0])
+    x, y, z, w = node.get("rotation", [0, 0, 0, 1])
+    r = np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+    s = np.diag(list(node.get("scale", [1, 1, 1])) + [1.0])
+    rot = np.eye(4)
+    rot[:3, :3] = r
+    return t @ rot @ s
+
+
+def load(path):
+    doc = json.load(open(path))
+    folder = os.path.dirname(os.path.abspath(path))
+    buffers = []
+    for b in doc.get("buffers", []):
+        uri = b["uri"]
+        if uri.startswith("data:"):
+            buffers.append(base64.b64decode(uri.split(",", 1)[1]))
+        else:
+            buffers.append(open(os.path.join(folder, uri), "rb").read())
+
+    def accessor(i):
+        a = doc["accessors"][i]
+        view = doc["bufferViews"][a["bufferView"]]
+        dtype = np.dtype(COMPONENT[a["componentType"]])
+        width = WIDTH[a["type"]]
+        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        stride = view.get("byteStride", 0) or dtype.itemsize * width
+        raw = buffers[view["buffer"]]
+        count = a["count"]
+        if stride == dtype.itemsize * width:
+            out = np.frombuffer(raw, dtype=dtype, count=count * width, offset=start)
+        else:
+            rows = [np.frombuffer(raw, dtype=dtype, count=width, offset=start + k * stride) for k in range(count)]
+            out = np.concatenate(rows)
+        return out.reshape(count, width) if width > 1 else out
+
+    materials = [Material("default", (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), 0.0)]  # as smlt: white Lambert
+    for m in doc.get("materials", []):
+        base = m.get("pbrMetallicRoughness", {}).get("baseColorFactor", [1, 1, 1, 1])[:3]
+        strength = m.get("extensions", {}).get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0)
+        emission = tuple(float(e) * strength for e in m.get("emissiveFactor", [0, 0, 0]))
+        phong = float(m.get("extras", {}).get(PHONG_KEY, 0.0))
+        materials.append(Material(m.get("name", ""), tuple(base), emission, phong))
+    scene = Scene(materials)
+    root = doc["scenes"][doc.get("scene", 0)]
+    stack = [(n, np.eye(4)) for n in reversed(root["nodes"])]
+    while stack:
+        index, parent = stack.pop()
+        node = doc["nodes"][index]
+        world = parent @ _node_matrix(node)
+        if "camera" in node:
+            cam = doc["cameras"][node["camera"]]
+            p = cam["perspective"]
+            forward = world[:3, :3] @ np.array([0, 0, -1.0])
+            up = world[:3, :3] @ np.array([0, 1.0, 0])
+            forward /= np.linalg.norm(forward)
+            up = up - forward * up.dot(forward)
+            scene.cameras.append(Camera(world[:3, 3].copy(), forward, up / np.linalg.norm(up), p["yfov"], p.get("aspectRatio")))
+        if "mesh" in node:
+            for prim in doc["meshes"][node["mesh"]]["primitives"]:
+                pos = accessor(prim["attributes"]["POSITION"]).astype(np.float64)
+                pos = (world[:3, :3] @ pos.T).T + world[:3, 3]
+                idx = accessor(prim["indices"]).astype(np.int64) if "indices" in prim else np.arange(len(pos))
+                tris = pos[idx.reshape(-1, 3)]
+                if np.linalg.det(world[:3, :3]) < 0:
+                    tris = tris[:, [0, 2, 1]]
+                m = prim.get("material", -1) + 1
+                scene.triangles.setdefault(m, []).append(tris)
+        stack.extend((c, world) for c in reversed(node.get("children", [])))
+    scene.triangles = {m: np.concatenate(t) for m, t in scene.triangles.items()}
+    return scene

@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""Mitsuba 3's path tracer as a peer of smlt's bench: converts one of smlt's glTF scene views
+(`gltf_scene.py`), renders it at equal wall time in chunks of samples, and measures it against
+smlt's reference with smlt's error definitions (RMSE on linear radiance; relMSE with 0.01 in the
+denominator; PSNR with peak 1 on clamped values), writing rows in the format of the bench's
+results.csv (method `mitsuba-path`; candidates = paths traced).
+
+    python3 mitsuba_peer.py SCENE.gltf --view 1 --width 128 --height 72 --max-depth 10 \\
+        --seconds 8 --repeats 3 --reference reference_scene_v1.exr --label scene --out peers.csv
+
+`--converged SPP` renders once with that many samples instead and prints how its image
+compares with the reference (the mean, and the error of the image and of its mirror image, to
+catch a flipped or shifted raster) - a peer's numbers count only after this agrees.
+
+Conversion: Lambert -> `diffuse`; emitters -> one-sided `area` lights of the same radiance;
+smlt's normalised Phong lobe of exponent >= 1e4 -> a smooth `conductor` with the albedo as its
+reflectance (the lobe is under a degree wide); smlt's max depth k (bounces, pbrt's maxdepth)
+-> Mitsuba's max_depth k + 1; box pixel filter (smlt's pixels are box averages).
+Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
+libllvm19 unpacked with dpkg-deb -x works), else `scalar_rgb`."""
+
+import argparse
+import math
+import os
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import gltf_scene  # noqa: E402
+
+
+def write_ply(path, tris):
+    verts = tris.reshape(-1, 3).astype("<f4")
+    faces = np.arange(len(verts), dtype="<i4").reshape(-1, 3)
+    with open(path, "wb") as f:
+        f.write(
+            (
+                "ply\nformat binary_little_endian 1.0\n"
+                f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n"
+                f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
+            ).encode()
+        )
+        rows = np.zeros(len(faces), dtype=[("n", "u1"), ("i", "<i4", 3)])
+        rows["n"] = 3
+        rows["i"] = faces
+        f.write(verts.tobytes())
+        f.write(rows.tobytes())
+
+
+def scene_dict(mi, scene, view, width, height, max_depth, folder):
+    cam = scene.cameras[view - 1]
+    target = cam.position + cam.forward
+    d = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": max_depth + 1, "hide_emitters": False},
+        "sensor": {
+            "type": "perspective",
+            "fov_axis": "y",
+            "fov": math.degrees(cam.yfov),
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=cam.position.tolist(), target=target.tolist(), up=cam.up.tolist()
+            ),
+            "film": {
+                "type": "hdrfilm",
+                "width": width,
+                "height": height,
+                "rfilter": {"type": "box"},
+                "pixel_format": "rgb",
+            },
+            "sampler": {"type": "independent", "sample_count": 1},
+        },
+    }
+    for m, tris in scene.triangles.items():
+        mat = scene.materials[m]
+        path = os.path.join(folder, f"mesh{m}.ply")
+        write_ply(path, tris)
+        rgb = {"type": "rgb", "value": list(mat.albedo)}
+        if mat.phong >= 1e4:
+            bsdf = {"type": "conductor", "material": "none", "specular_reflectance": rgb}
+        elif mat.phong > 0:
+            raise SystemExit(f"material {mat.name}: Phong exponent {mat.phong} has no Mitsuba counterpart here")
+        else:
+            bsdf = {"type": "diffuse", "reflectance": rgb}
+        shape = {"type": "ply", "filename": path, "face_normals": True, "bsdf": bsdf}
+        if max(mat.emission) > 0:
+            shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(mat.emission)}}
+        d[f"mesh{m}"] = shape
+    return d
+
+
+def errors(image, reference):
+    d = image - reference
+    n = d.size
+    clamped = np.clip(image, 0, 1) - np.clip(reference, 0, 1)
+    mse_c = float((clamped**2).sum() / n)
+    return (
+        float(np.sqrt((d**2).sum() / n)),
+        float((d**2 / (reference**2 + 0.01)).sum() / n),
+        10 * math.log10(1 / mse_c) if mse_c > 0 else math.inf,
+    )
+
+
+def read_exr(mi, path):
+    return np.array(mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, srgb_gamma=False))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("scene")
+    ap.add_argument("--view", type=int, default=1)
+    ap.add_argument("--width", type=int, default=128)
+    ap.add_argument("--height", type=int, default=72)
+    ap.add_argument("--max-depth", type=int, default=10)
+    ap.add_argument("--seconds", type=float, default=8.0)
+    ap.add_argument("--repeats", type=int, default=1)
+    ap.add_argument("--chunk", type=int, default=4, help="samples per pixel per render call")
+    ap.add_argument("--reference", required=True)
+    ap.add_argument("--label", default=None)
+    ap.add_argument("--out", default="peers.csv")
+    ap.add_argument("--converged", type=int, default=0, help="check: render SPP samples once and compare")
+    ap.add_argument("--variant", default=None)
+    a = ap.parse_args()
+
+    import mitsuba as mi
+
+    variant = a.variant
+    if variant is None:
+        variant = "scalar_rgb"
+        if os.environ.get("DRJIT_LIBLLVM_PATH"):
+            variant = "llvm_ad_rgb"
+    mi.set_variant(variant)
+    scene = gltf_scene.load(a.scene)
+    label = a.label or os.path.splitext(os.path.basename(a.scene))[0]
+    reference = read_exr(mi, a.reference)
+    if reference.shape[:2] != (a.height, a.width):
+        raise SystemExit(f"the reference is {reference.shape[1]}x{reference.shape[0]}, not {a.width}x{a.height}")
+    with tempfile.TemporaryDirectory() as folder:
+        m_scene = mi.load_dict(scene_dict(mi, scene, a.view, a.width, a.height, a.max_depth, folder))
+        pixels = a.width * a.height
+        if a.converged:
+            start = time.time()
+            img = np.array(m_scene.integrator().render(m_scene, seed=1, spp=a.converged))
+            took = time.time() - start
+            mean_i, mean_r = img.mean(), reference.mean()
+            flipped = errors(img[:, ::-1], reference)[0]
+            print(f"{label} v{a.view}: {a.converged} spp in {took:.1f} s with {variant}; mean {mean_i:.5f} against the"
+                  f" reference's {mean_r:.5f} ({100 * (mean_i / mean_r - 1):+.2f} %); RMSE {errors(img, reference)[0]:.5f},"
+                  f" mirrored {flipped:.5f}")
+            return
+        grid = []
+        t = 1.0
+        while t < a.seconds:
+            grid.append(t)
+            t *= 2
+        grid.append(a.seconds)
+        rows = []
+        for repeat in range(a.repeats):
+            total = np.zeros_like(reference)
+            spp = 0
+            elapsed = 0.0
+            call = 0
+            for t in grid:
+                while elapsed < t:
+                    start = time.time()
+                    img = np.array(m_scene.integrator().render(m_scene, seed=repeat * 100003 + call, spp=a.chunk))
+                    elapsed += time.time() - start
+                    total += img * a.chunk
+                    spp += a.chunk
+                    call += 1
+                rmse, relmse, psnr = errors(total / spp, reference)
+                paths = spp * pixels
+                rows.append(
+                    f"{label},{a.view},mitsuba-path,{repeat},{elapsed:.3f},{paths},{paths},{paths / elapsed:.1f},"
+                    f"{paths / elapsed:.1f},{rmse:.6e},{relmse:.6e},{psnr:.3f},0,nan,nan"
+                )
+                print(rows[-1], flush=True)
+    header = "scene,view,method,repeat,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr,nan_inf,b,b_rel_se"
+    new = not os.path.exists(a.out)
+    with open(a.out, "a") as f:
+        if new:
+            f.write(header + "\n")
+        f.write("\n".join(rows) + "\n")
+
+
+if __name__ == "__main__":
+    main()
