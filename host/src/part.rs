@@ -379,7 +379,8 @@ pub fn merge(parts: &[Part]) -> Result<Rendered, PartError> {
     }
     let id = &first.identity;
     let mut acc = Accumulation::new(id.width as usize * id.height as usize);
-    let mut stats = Stats::default();
+    let per_chain = id.method.parse::<crate::render::Method>().map_or(1, |m| m.candidates_per_chain());
+    let mut stats = Stats { chains: (id.candidates / per_chain).max(1), ..Default::default() };
     for p in by_shard.into_iter().flatten() {
         acc.merge(&p.accumulation);
         stats.iterations = stats.iterations.max(p.iterations);

@@ -164,7 +164,7 @@ pub fn tables(profiles: &[Profile]) -> String {
             "### Inside an iteration: {scene} v{view} (device ms per iteration, {clock} clock)\n\n\
              | method | candidates | {} | total | trace+connect ns/candidate \
              | rays/candidate | bare M rays/s | ceiling M mut/s | measured M mut/s | of ceiling | device MiB |\n\
-             |---|---|{}---|---|---|---|---|---|---|---|---|",
+             |---|---|{}---|---|---|---|---|---|---|---|",
             names.join(" | "),
             "---|".repeat(names.len())
         );
