@@ -30,24 +30,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import gltf_scene  # noqa: E402
-
-
-def write_ply(path, tris):
-    verts = tris.reshape(-1, 3).astype("<f4")
-    faces = np.arange(len(verts), dtype="<i4").reshape(-1, 3)
-    with open(path, "wb") as f:
-        f.write(
-            (
-                "ply\nformat binary_little_endian 1.0\n"
-                f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n"
-                f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
-            ).encode()
-        )
-        rows = np.zeros(len(faces), dtype=[("n", "u1"), ("i", "<i4", 3)])
-        rows["n"] = 3
-        rows["i"] = faces
-        f.write(verts.tobytes())
-        f.write(rows.tobytes())
+from peer_common import append_rows, errors, time_grid, write_ply  # noqa: E402
 
 
 def scene_dict(mi, scene, view, width, height, max_depth, folder):
@@ -89,18 +72,6 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
             shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(mat.emission)}}
         d[f"mesh{m}"] = shape
     return d
-
-
-def errors(image, reference):
-    d = image - reference
-    n = d.size
-    clamped = np.clip(image, 0, 1) - np.clip(reference, 0, 1)
-    mse_c = float((clamped**2).sum() / n)
-    return (
-        float(np.sqrt((d**2).sum() / n)),
-        float((d**2 / (reference**2 + 0.01)).sum() / n),
-        10 * math.log10(1 / mse_c) if mse_c > 0 else math.inf,
-    )
 
 
 def read_exr(mi, path):
@@ -150,12 +121,7 @@ def main():
                   f" reference's {mean_r:.5f} ({100 * (mean_i / mean_r - 1):+.2f} %); RMSE {errors(img, reference)[0]:.5f},"
                   f" mirrored {flipped:.5f}")
             return
-        grid = []
-        t = 1.0
-        while t < a.seconds:
-            grid.append(t)
-            t *= 2
-        grid.append(a.seconds)
+        grid = time_grid(a.seconds)
         rows = []
         for repeat in range(a.repeats):
             total = np.zeros_like(reference)
@@ -177,12 +143,7 @@ def main():
                     f"{paths / elapsed:.1f},{rmse:.6e},{relmse:.6e},{psnr:.3f},0,nan,nan"
                 )
                 print(rows[-1], flush=True)
-    header = "scene,view,method,repeat,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr,nan_inf,b,b_rel_se"
-    new = not os.path.exists(a.out)
-    with open(a.out, "a") as f:
-        if new:
-            f.write(header + "\n")
-        f.write("\n".join(rows) + "\n")
+    append_rows(a.out, rows)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,68 @@
+"""What the peers share: PLY output, smlt's error definitions, the bench's time grid and its
+results.csv format."""
+
+import math
+import os
+
+import numpy as np
+
+HEADER = "scene,view,method,repeat,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr,nan_inf,b,b_rel_se"
+
+
+def write_ply(path, tris):
+    """Binary PLY of flat triangles (n, 3, 3)."""
+    verts = tris.reshape(-1, 3).astype("<f4")
+    faces = np.arange(len(verts), dtype="<i4").reshape(-1, 3)
+    with open(path, "wb") as f:
+        f.write(
+            (
+                "ply\nformat binary_little_endian 1.0\n"
+                f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n"
+                f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
+            ).encode()
+        )
+        rows = np.zeros(len(faces), dtype=[("n", "u1"), ("i", "<i4", 3)])
+        rows["n"] = 3
+        rows["i"] = faces
+        f.write(verts.tobytes())
+        f.write(rows.tobytes())
+
+
+
+def errors(image, reference):
+    """smlt's RMSE, relMSE and PSNR (peak 1, clamped) of image against reference."""
+    d = image - reference
+    n = d.size
+    clamped = np.clip(image, 0, 1) - np.clip(reference, 0, 1)
+    mse_c = float((clamped**2).sum() / n)
+    return (
+        float(np.sqrt((d**2).sum() / n)),
+        float((d**2 / (reference**2 + 0.01)).sum() / n),
+        10 * math.log10(1 / mse_c) if mse_c > 0 else math.inf,
+    )
+
+
+
+
+def time_grid(seconds):
+    """The bench's measurement times: 1, 2, 4, ... below `seconds`, and `seconds`."""
+    grid, t = [], 1.0
+    while t < seconds:
+        grid.append(t)
+        t *= 2
+    return grid + [seconds]
+
+
+def row(label, view, method, repeat, seconds, paths, err):
+    rmse, relmse, psnr = err
+    return (f"{label},{view},{method},{repeat},{seconds:.3f},{paths},{paths},{paths / seconds:.1f},"
+            f"{paths / seconds:.1f},{rmse:.6e},{relmse:.6e},{psnr:.3f},0,nan,nan")
+
+
+def append_rows(path, rows):
+    """Appends rows to a results.csv (writing the header first for a new file)."""
+    new = not os.path.exists(path)
+    with open(path, "a") as f:
+        if new:
+            f.write(HEADER + "\n")
+        f.write("\n".join(rows) + "\n")
