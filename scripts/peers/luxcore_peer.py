@@ -21,7 +21,6 @@ is one row off (the window is moved by one row, `--row-shift -1`); the per-kind 
 (Sibenik rendered 30 % dark); LuxCore 2.11's Russian roulette biases it bright, so it is
 switched off (path.russianroulette.depth 10000)."""
 
-import argparse
 import math
 import os
 import sys
@@ -32,7 +31,7 @@ import numpy as np  # before pyluxcore
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import gltf_scene  # noqa: E402
-from peer_common import append_rows, errors, row, time_grid, write_ply  # noqa: E402
+from peer_common import append_rows, arguments, errors, row, time_grid, write_ply  # noqa: E402
 
 
 def props(scene, view, width, height, max_depth, engine, folder, threads):
@@ -41,7 +40,7 @@ def props(scene, view, width, height, max_depth, engine, folder, threads):
     aspect = width / height
     v = lambda x: " ".join(f"{c:.9g}" for c in x)  # noqa: E731
     p = [
-        f"scene.camera.type = perspective",
+        "scene.camera.type = perspective",
         f"scene.camera.lookat.orig = {v(cam.position)}",
         f"scene.camera.lookat.target = {v(target)}",
         f"scene.camera.up = {v(cam.up)}",
@@ -101,21 +100,11 @@ def read_exr(path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("scene")
-    ap.add_argument("--view", type=int, default=1)
-    ap.add_argument("--width", type=int, default=128)
-    ap.add_argument("--height", type=int, default=72)
-    ap.add_argument("--max-depth", type=int, default=10)
+    ap = arguments(__doc__)
     ap.add_argument("--engine", choices=["bidir", "path"], default="bidir")
-    ap.add_argument("--seconds", type=float, default=8.0)
-    ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--threads", type=int, default=os.cpu_count())
     ap.add_argument("--row-shift", type=int, default=-1,
                     help="move the raster by this many rows (LuxCore 2.11's is one row off: -1, checked)")
-    ap.add_argument("--reference", required=True)
-    ap.add_argument("--label", default=None)
-    ap.add_argument("--out", default="peers.csv")
     ap.add_argument("--converged", type=float, default=0.0)
     a = ap.parse_args()
     reference = read_exr(a.reference)

@@ -19,7 +19,6 @@ reflectance (the lobe is under a degree wide); smlt's max depth k (bounces, pbrt
 Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
 libllvm19 unpacked with dpkg-deb -x works), else `scalar_rgb`."""
 
-import argparse
 import math
 import os
 import sys
@@ -30,7 +29,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import gltf_scene  # noqa: E402
-from peer_common import append_rows, errors, time_grid, write_ply  # noqa: E402
+from peer_common import append_rows, arguments, errors, row, time_grid, write_ply  # noqa: E402
 
 
 def scene_dict(mi, scene, view, width, height, max_depth, folder):
@@ -79,18 +78,8 @@ def read_exr(mi, path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("scene")
-    ap.add_argument("--view", type=int, default=1)
-    ap.add_argument("--width", type=int, default=128)
-    ap.add_argument("--height", type=int, default=72)
-    ap.add_argument("--max-depth", type=int, default=10)
-    ap.add_argument("--seconds", type=float, default=8.0)
-    ap.add_argument("--repeats", type=int, default=1)
+    ap = arguments(__doc__)
     ap.add_argument("--chunk", type=int, default=4, help="samples per pixel per render call")
-    ap.add_argument("--reference", required=True)
-    ap.add_argument("--label", default=None)
-    ap.add_argument("--out", default="peers.csv")
     ap.add_argument("--converged", type=int, default=0, help="check: render SPP samples once and compare")
     ap.add_argument("--variant", default=None)
     a = ap.parse_args()
@@ -136,12 +125,7 @@ def main():
                     total += img * a.chunk
                     spp += a.chunk
                     call += 1
-                rmse, relmse, psnr = errors(total / spp, reference)
-                paths = spp * pixels
-                rows.append(
-                    f"{label},{a.view},mitsuba-path,{repeat},{elapsed:.3f},{paths},{paths},{paths / elapsed:.1f},"
-                    f"{paths / elapsed:.1f},{rmse:.6e},{relmse:.6e},{psnr:.3f},0,nan,nan"
-                )
+                rows.append(row(label, a.view, "mitsuba-path", repeat, elapsed, spp * pixels, errors(total / spp, reference)))
                 print(rows[-1], flush=True)
     append_rows(a.out, rows)
 

@@ -1,6 +1,7 @@
 """What the peers share: PLY output, smlt's error definitions, the bench's time grid and its
 results.csv format."""
 
+import argparse
 import math
 import os
 
@@ -66,3 +67,19 @@ def append_rows(path, rows):
         if new:
             f.write(HEADER + "\n")
         f.write("\n".join(rows) + "\n")
+
+
+def arguments(doc):
+    """The arguments every peer takes (scene view, size, depth, time, repeats, reference, output)."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("scene")
+    ap.add_argument("--view", type=int, default=1)
+    ap.add_argument("--width", type=int, default=128)
+    ap.add_argument("--height", type=int, default=72)
+    ap.add_argument("--max-depth", type=int, default=10)
+    ap.add_argument("--seconds", type=float, default=8.0)
+    ap.add_argument("--repeats", type=int, default=1)
+    ap.add_argument("--reference", required=True)
+    ap.add_argument("--label", default=None)
+    ap.add_argument("--out", default="peers.csv")
+    return ap
