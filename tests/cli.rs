@@ -7,11 +7,7 @@ use std::process::Command;
 
 fn smlt(args: &[&str]) -> (bool, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_smlt")).args(args).output().expect("run smlt");
-    let stderr: String = String::from_utf8_lossy(&out.stderr)
-        .lines()
-        .filter(|l| !l.contains("XDG_RUNTIME_DIR")) // Mesa's harmless notice
-        .map(|l| format!("{l}\n"))
-        .collect();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), stderr)
 }
 
@@ -48,6 +44,39 @@ fn check_render(dir: &Path, extra: &[&str]) -> String {
     let png = image::open(dir.join("out.png")).unwrap();
     assert_eq!((png.width(), png.height()), (12, 7));
     stdout
+}
+
+/// A new user's first render, on a machine without a display (no `XDG_RUNTIME_DIR`), prints
+/// no error: the summary on stdout, and on stderr only the progress.
+#[test]
+fn a_render_without_a_display_prints_no_error() {
+    for device in ["cpu", "gpu"] {
+        if device == "gpu" && common::gpu_or_skip("a_render_without_a_display_prints_no_error").is_none() {
+            continue;
+        }
+        let dir = temp_dir(&format!("quiet-{device}"));
+        let out = Command::new(env!("CARGO_BIN_EXE_smlt"))
+            .args([
+                "render",
+                "--width",
+                "8",
+                "--height",
+                "6",
+                "--mutations-per-pixel",
+                "2",
+                "--device",
+                device,
+            ])
+            .arg("--out")
+            .arg(dir.join("q.exr"))
+            .env_remove("XDG_RUNTIME_DIR")
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(!stderr.to_lowercase().contains("error"), "{device}: {stderr}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
 
 #[test]
@@ -339,7 +368,7 @@ fn the_bench_writes_a_well_formed_csv() {
     let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
     let mut lines = csv.lines();
     let header = lines.next().unwrap();
-    assert_eq!(header, smlt::bench::CSV_HEADER);
+    assert_eq!(header, smlt::bench::results::CSV_HEADER);
     assert!(header.starts_with(
         "scene,view,method,repeat,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr"
     ));
@@ -359,12 +388,13 @@ fn the_bench_writes_a_well_formed_csv() {
     assert!(tables.contains("Million mutations") && tables.contains("PSNR") && tables.contains("| rc2 |"));
     assert!(tables.contains("relMSE") && tables.contains(" ± "), "means with intervals: {tables}");
     assert!(dir.join("heat_cornell_v1_naive.png").exists());
-    if device == "gpu" {
-        // Inside an iteration: a profile per scene view and method, every number positive.
+    {
+        // Inside an iteration, on the device as on the CPU backend: a profile per scene view and
+        // method, every number positive, the CPU backend's threads counted.
         let passes = std::fs::read_to_string(dir.join("passes.csv")).unwrap();
         let mut lines = passes.lines();
         let header = lines.next().unwrap();
-        assert_eq!(header, smlt::profile::csv_header());
+        assert_eq!(header, smlt::bench::profile::csv_header());
         let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
         assert_eq!(rows.len(), 6, "{passes}");
         for r in &rows {
@@ -377,6 +407,9 @@ fn the_bench_writes_a_well_formed_csv() {
             let rays_per_candidate: f64 = r[10].parse().unwrap();
             // Most techniques trace a camera ray, and most connections cast a shadow ray.
             assert!(rays_per_candidate > 0.5, "{r:?}");
+            let threads: usize = r.last().unwrap().parse().unwrap();
+            assert_eq!(threads > 0, device == "cpu", "{r:?}");
+            assert!(device == "gpu" || r[4] == "wall", "{r:?}");
         }
         assert!(tables.contains("Inside an iteration: atrium v2") && tables.contains("bare M rays/s"));
     }

@@ -8,10 +8,13 @@ mod common;
 
 use glam::Vec4;
 use shared::layout::{soa_index, unpack_contribution};
-use shared::mmlt::{ChainState, PathInfo, PathVertex, RenderParams, Scene, MODE_BOOTSTRAP};
+use shared::mmlt::{ChainState, PathInfo, PathVertex, RenderParams, MODE_BOOTSTRAP};
+use shared::scene::Scene;
 use shared::{reject_chain, tree};
+use smlt::caster::HostCaster;
 use smlt::gpu::Gpu;
 use smlt::passes;
+use smlt::passes::buffers::{GpuBuffers, OnDevice};
 use smlt::passes::Stage;
 use smlt::render::{self, cpu::CpuBuffers, gpu, Backend, Budget, Method, Settings};
 use smlt::scene::SceneData;
@@ -76,7 +79,7 @@ struct Difftest<'a> {
     method: Method,
     base: RenderParams,
     params: RenderParams,
-    scene: Scene<'a>,
+    scene: Scene<'a, HostCaster<'a>>,
     dev: gpu::GpuBackend,
     cpu: CpuBuffers<'a>,
     /// The chains' states before `select`.
@@ -123,7 +126,8 @@ impl<'a> Difftest<'a> {
         let (method, c, n) = (self.method, self.candidates(), self.chains());
         let boot = RenderParams { mode: MODE_BOOTSTRAP, ..self.base };
         let a = self.cpu.bootstrap(&boot);
-        let b = self.dev.bootstrap(&boot).unwrap();
+        self.dev.run(&boot, &[Stage::Mutate, Stage::Trace, Stage::Connect]).unwrap();
+        let b: Vec<Vec4> = self.dev.gpu().read(&self.dev.buffers().iteration.contributions, c).unwrap();
         let differ = a.iter().zip(&b).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
         println!("{method}: bootstrap contributions differing: {differ} of {c}");
         assert!(differ <= allowed(c));
@@ -141,8 +145,8 @@ impl<'a> Difftest<'a> {
                 ..Default::default()
             })
             .collect();
-        self.cpu.chain_u.copy_from_slice(&chain_u);
-        self.cpu.chains.copy_from_slice(&self.start);
+        self.cpu.iteration.chain_u.copy_from_slice(&chain_u);
+        self.cpu.iteration.chains.copy_from_slice(&self.start);
         self.dev.start(&chain_u, &self.start).unwrap();
     }
 
@@ -150,47 +154,63 @@ impl<'a> Difftest<'a> {
     fn mutate(&mut self) {
         let c = self.candidates();
         let (params, cpu) = (&self.params, &mut self.cpu);
-        passes::mutate::cpu(params, &cpu.chains, &cpu.chain_u, &mut cpu.cand_u, &mut cpu.cand_depth);
+        passes::mutate::cpu(
+            params,
+            &cpu.iteration.chains,
+            &cpu.iteration.chain_u,
+            &mut cpu.iteration.cand_u,
+            &mut cpu.iteration.cand_depth,
+        );
         self.dev.run(params, &[Stage::Mutate]).unwrap();
-        let dev_u: Vec<f32> = self.dev.gpu().read(&self.dev.buffers().cand_u, cpu.cand_u.len()).unwrap();
-        let differ = cpu.cand_u.iter().zip(&dev_u).filter(|(x, y)| (**x - **y).abs() > 1e-6).count();
+        let dev_u: Vec<f32> =
+            self.dev.gpu().read(&self.dev.buffers().iteration.cand_u, cpu.iteration.cand_u.len()).unwrap();
+        let differ =
+            cpu.iteration.cand_u.iter().zip(&dev_u).filter(|(x, y)| (**x - **y).abs() > 1e-6).count();
         println!("{}: mutate samples differing: {differ} of {}", self.method, dev_u.len());
         assert_eq!(differ, 0);
-        let dev_depth: Vec<u32> = self.dev.gpu().read(&self.dev.buffers().cand_depth, c).unwrap();
-        assert_eq!(cpu.cand_depth, dev_depth, "candidate depths");
+        let dev_depth: Vec<u32> = self.dev.gpu().read(&self.dev.buffers().iteration.cand_depth, c).unwrap();
+        assert_eq!(cpu.iteration.cand_depth, dev_depth, "candidate depths");
     }
 
     /// trace, from the CPU's candidate samples: the same path infos and used vertices.
     fn trace(&mut self) {
         let c = self.candidates();
         let (params, cpu) = (&self.params, &mut self.cpu);
-        upload(self.dev.gpu(), &self.dev.buffers().cand_u, &cpu.cand_u);
+        upload(self.dev.gpu(), &self.dev.buffers().iteration.cand_u, &cpu.iteration.cand_u);
         passes::trace::cpu(
             params,
-            &cpu.cand_depth,
-            &cpu.cand_u,
+            &cpu.iteration.cand_depth,
+            &cpu.iteration.cand_u,
             self.scene,
-            &mut cpu.vertices,
-            &mut cpu.paths,
+            &mut cpu.iteration.vertices,
+            &mut cpu.iteration.paths,
         );
         self.dev.run(params, &[Stage::Trace]).unwrap();
-        let dev_paths: Vec<PathInfo> = self.dev.gpu().read(&self.dev.buffers().paths, c).unwrap();
-        let dev_vertices: Vec<PathVertex> =
-            self.dev.gpu().read(&self.dev.buffers().vertices, cpu.vertices.len()).unwrap();
+        let dev_paths: Vec<PathInfo> = self.dev.gpu().read(&self.dev.buffers().iteration.paths, c).unwrap();
+        let dev_vertices: Vec<PathVertex> = self
+            .dev
+            .gpu()
+            .read(&self.dev.buffers().iteration.vertices, cpu.iteration.vertices.len())
+            .unwrap();
         let slots = shared::mmlt::vertex_slots(params.max_depth);
         let vertex = |v: &[PathVertex], k: usize, slot: u32| v[soa_index(k as u32, slot, c as u32)];
         let mut differ = 0;
-        for (k, (&pa, &pb)) in cpu.paths.iter().zip(&dev_paths).enumerate() {
+        for (k, (&pa, &pb)) in cpu.iteration.paths.iter().zip(&dev_paths).enumerate() {
             let same_vertices = (0..slots).all(|slot| {
                 let used = slot < pa.camera_vertices || slot >= slots - pa.light_vertices;
-                !used || vertex_close(&vertex(&cpu.vertices, k, slot), &vertex(&dev_vertices, k, slot))
+                !used
+                    || vertex_close(
+                        &vertex(&cpu.iteration.vertices, k, slot),
+                        &vertex(&dev_vertices, k, slot),
+                    )
             });
             if pa != pb || !same_vertices {
                 differ += 1;
                 if differ <= 3 && std::env::var("SMLT_DIFF_VERBOSE").is_ok() {
                     println!("candidate {k}: cpu {pa:?}\n  dev {pb:?}");
                     for slot in 0..slots {
-                        let (x, y) = (vertex(&cpu.vertices, k, slot), vertex(&dev_vertices, k, slot));
+                        let (x, y) =
+                            (vertex(&cpu.iteration.vertices, k, slot), vertex(&dev_vertices, k, slot));
                         if !vertex_close(&x, &y) {
                             println!("  slot {slot}: cpu {x:?}\n          dev {y:?}");
                         }
@@ -206,24 +226,30 @@ impl<'a> Difftest<'a> {
     fn connect(&mut self) {
         let c = self.candidates();
         let (params, cpu) = (&self.params, &mut self.cpu);
-        upload(self.dev.gpu(), &self.dev.buffers().vertices, &cpu.vertices);
-        upload(self.dev.gpu(), &self.dev.buffers().paths, &cpu.paths);
+        upload(self.dev.gpu(), &self.dev.buffers().iteration.vertices, &cpu.iteration.vertices);
+        upload(self.dev.gpu(), &self.dev.buffers().iteration.paths, &cpu.iteration.paths);
         passes::connect::cpu(
             params,
-            &cpu.cand_u,
+            &cpu.iteration.cand_u,
             self.scene,
-            &cpu.vertices,
-            &cpu.paths,
-            &mut cpu.contributions,
+            &cpu.iteration.vertices,
+            &cpu.iteration.paths,
+            &mut cpu.iteration.contributions,
         );
         self.dev.run(params, &[Stage::Connect]).unwrap();
-        let dev_contrib: Vec<Vec4> = self.dev.gpu().read(&self.dev.buffers().contributions, c).unwrap();
-        let differ =
-            cpu.contributions.iter().zip(&dev_contrib).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
-        let nonzero = cpu.contributions.iter().filter(|v| v.truncate().max_element() > 0.0).count();
+        let dev_contrib: Vec<Vec4> =
+            self.dev.gpu().read(&self.dev.buffers().iteration.contributions, c).unwrap();
+        let differ = cpu
+            .iteration
+            .contributions
+            .iter()
+            .zip(&dev_contrib)
+            .filter(|(x, y)| !close4(**x, **y, 1e-3))
+            .count();
+        let nonzero = cpu.iteration.contributions.iter().filter(|v| v.truncate().max_element() > 0.0).count();
         println!("{}: connected contributions differing: {differ} of {c} ({nonzero} non-zero)", self.method);
         assert!(differ <= allowed(c) && nonzero > c / 10);
-        for (x, y) in cpu.contributions.iter().zip(&dev_contrib) {
+        for (x, y) in cpu.iteration.contributions.iter().zip(&dev_contrib) {
             assert_eq!(unpack_contribution(*x).1, unpack_contribution(*y).1, "pixel bits");
         }
     }
@@ -233,19 +259,21 @@ impl<'a> Difftest<'a> {
     fn select(&mut self) {
         let (method, n) = (self.method, self.chains());
         let (params, cpu) = (&self.params, &mut self.cpu);
-        upload(self.dev.gpu(), &self.dev.buffers().contributions, &cpu.contributions);
-        cpu.select(params);
+        upload(self.dev.gpu(), &self.dev.buffers().iteration.contributions, &cpu.iteration.contributions);
+        cpu.run(Stage::Select, params, &mut []);
         self.dev.run(params, &[Stage::Select]).unwrap();
-        let dev_chains: Vec<ChainState> = self.dev.gpu().read(&self.dev.buffers().chains, n).unwrap();
+        let dev_chains: Vec<ChainState> =
+            self.dev.gpu().read(&self.dev.buffers().iteration.chains, n).unwrap();
         let dev_chain_u: Vec<f32> =
-            self.dev.gpu().read(&self.dev.buffers().chain_u, cpu.chain_u.len()).unwrap();
+            self.dev.gpu().read(&self.dev.buffers().iteration.chain_u, cpu.iteration.chain_u.len()).unwrap();
         let records = Stage::Splat.invocations(params) as usize;
-        let dev_splats: Vec<Vec4> = self.dev.gpu().read(&self.dev.buffers().splats, records).unwrap();
+        let dev_splats: Vec<Vec4> =
+            self.dev.gpu().read(&self.dev.buffers().iteration.splats, records).unwrap();
         // A chain whose next-state draw falls within rounding of a probability boundary may move
         // differently on the two sides; every other chain must have identical samples.
         let same_state: Vec<bool> = (0..n)
             .map(|p| {
-                let (x, y) = (cpu.chains[p], dev_chains[p]);
+                let (x, y) = (cpu.iteration.chains[p], dev_chains[p]);
                 close4(Vec4::from_array(x.contribution), Vec4::from_array(y.contribution), 1e-6)
                     && close(x.accepted, y.accepted, 1e-4)
                     && x.invalid == y.invalid
@@ -255,15 +283,16 @@ impl<'a> Difftest<'a> {
             })
             .collect();
         let differ = same_state.iter().filter(|x| !**x).count();
-        let moved = (0..n).filter(|&p| cpu.chains[p].contribution != self.start[p].contribution).count();
-        let tallied = cpu.chains.iter().filter(|x| x.large_count > 0).count();
+        let moved =
+            (0..n).filter(|&p| cpu.iteration.chains[p].contribution != self.start[p].contribution).count();
+        let tallied = cpu.iteration.chains.iter().filter(|x| x.large_count > 0).count();
         assert!(tallied > 0, "{method}: select tallies the large steps' targets for b");
         println!("{method}: chain states differing: {differ} of {n} ({moved} moved)");
         assert!(differ <= allowed(n).max(1) && moved > 0);
         for p in (0..n as u32).filter(|&p| same_state[p as usize]) {
             for d in 0..params.dims {
                 let i = soa_index(p, d, n as u32);
-                assert_eq!(cpu.chain_u[i], dev_chain_u[i], "chain {p} sample {d} after selection");
+                assert_eq!(cpu.iteration.chain_u[i], dev_chain_u[i], "chain {p} sample {d} after selection");
             }
         }
         // A record holds (F/c)·w, whose luminance is w.
@@ -272,7 +301,10 @@ impl<'a> Difftest<'a> {
         for p in 0..n {
             let mut c =
                 vec![shared::mmlt::luminance(Vec4::from_array(self.start[p].contribution).truncate())];
-            c.extend((0..per).map(|k| shared::mmlt::luminance(cpu.contributions[p * per + k].truncate())));
+            c.extend(
+                (0..per)
+                    .map(|k| shared::mmlt::luminance(cpu.iteration.contributions[p * per + k].truncate())),
+            );
             let expected = expected_weights(method, &c);
             for (state, w) in expected.iter().enumerate() {
                 let record = dev_splats[p * (per + 1) + state];
@@ -295,8 +327,11 @@ impl<'a> Difftest<'a> {
             }
         }
         assert!(checked > n);
-        let differ =
-            cpu.splats[..records].iter().zip(&dev_splats).filter(|(x, y)| !close4(**x, **y, 1e-4)).count();
+        let differ = cpu.iteration.splats[..records]
+            .iter()
+            .zip(&dev_splats)
+            .filter(|(x, y)| !close4(**x, **y, 1e-4))
+            .count();
         println!("{method}: splat records differing: {differ} of {records}");
         assert!(differ <= allowed(records).max(1));
     }
@@ -305,8 +340,8 @@ impl<'a> Difftest<'a> {
     fn splat(&mut self) {
         let (params, cpu) = (&self.params, &self.cpu);
         let mut cpu_image = vec![0.0f64; (params.width * params.height * 3) as usize];
-        passes::splat::cpu(params, &cpu.splats, &mut cpu_image);
-        upload(self.dev.gpu(), &self.dev.buffers().splats, &cpu.splats);
+        passes::splat::cpu(params, &cpu.iteration.splats, &mut cpu_image);
+        upload(self.dev.gpu(), &self.dev.buffers().iteration.splats, &cpu.iteration.splats);
         self.dev.run(params, &[Stage::Splat]).unwrap();
         let mut drained = render::Accumulation::new((params.width * params.height) as usize);
         self.dev.drain(&mut drained).unwrap();
@@ -376,7 +411,7 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
     dev.start(&chain_u, &vec![ChainState { depth: s.max_depth, ..Default::default() }; n]).unwrap();
     let params = RenderParams { iteration: 9, ..base };
     dev.run(&params, &[Stage::Mutate]).unwrap();
-    let u: Vec<f32> = dev.gpu().read(&dev.buffers().cand_u, c * dims).unwrap();
+    let u: Vec<f32> = dev.gpu().read(&dev.buffers().iteration.cand_u, c * dims).unwrap();
     // The offset from a to b on the unit circle, in (−0.5, 0.5].
     let step = |a: f32, b: f32| {
         let d = b - a;
@@ -410,4 +445,44 @@ fn speculative_depth_three_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("speculative_depth_three_passes_agree_on_device_and_cpu") {
         difftest(gpu, Method::Tree(3));
     }
+}
+
+/// Every pass binds what its kernel declares: as many buffers as the entry point's interface
+/// holds, and writable exactly where the kernel's parameter is `&mut` (SPIR-V `NonWritable`
+/// marks the others). With SPIR-V passthrough nothing else checks this.
+#[test]
+fn every_pass_binds_what_its_kernel_declares() {
+    let Some(gpu) = common::gpu_or_skip("every_pass_binds_what_its_kernel_declares") else {
+        return;
+    };
+    let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").unwrap();
+    let s = Settings {
+        width: 8,
+        height: 8,
+        max_depth: 3,
+        seed: 1,
+        method: Method::Tree(2),
+        budget: Budget::MutationsPerPixel(1.0),
+        candidates: 192,
+        bootstrap_samples: 192,
+        mutation: Default::default(),
+        shard: render::Shard::WHOLE,
+    };
+    let params = render::base_params(&scene, &s);
+    let buffers = GpuBuffers::new(&mut OnDevice(gpu.clone()), &scene, &params);
+    let interfaces = smlt::gpu::spirv_interfaces(&wgpu::util::make_spirv_raw(smlt::gpu::KERNELS_SPV));
+    let declared = |entry: &str| -> Vec<bool> {
+        let e = interfaces.iter().find(|e| e.name == entry).unwrap_or_else(|| panic!("no {entry}"));
+        e.bindings.iter().map(|(_, writable)| *writable).collect()
+    };
+    for stage in Stage::ITERATION {
+        let pass = stage.pass(&gpu, &buffers).unwrap();
+        assert_eq!(pass.writable(), declared(stage.entry_point()), "{}", stage.name());
+    }
+    let any = |n: usize| (0..n).map(|_| gpu.storage_zeroed::<u32>("any", 64)).collect::<Vec<_>>();
+    let b = any(6);
+    let reference = passes::reference::gpu(&gpu, [&b[0], &b[1], &b[2], &b[3], &b[4], &b[5]]).unwrap();
+    assert_eq!(reference.writable(), declared("reference_cs"));
+    let raycast = passes::raycast::gpu(&gpu, [&b[0], &b[1], &b[2], &b[3], &b[4]]).unwrap();
+    assert_eq!(raycast.writable(), declared("raycast_cs"));
 }

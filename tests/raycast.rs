@@ -7,8 +7,8 @@ mod common;
 
 use shared::mmlt::{vertex_slot, PathInfo, PathVertex, RenderParams, MODE_BOOTSTRAP};
 use shared::rays::{Ray, RAY_CLOSEST, RAY_NONE, RAY_OCCLUSION};
+use smlt::bench::raycast::{log_candidates, replay, RayLog};
 use smlt::passes;
-use smlt::raycast::{log_candidates, replay, RayLog};
 use smlt::render::{self, Budget, Method, Settings};
 use smlt::scene::SceneData;
 use smlt::timing::{time_passes, Clock};
@@ -71,7 +71,7 @@ fn the_log_holds_the_rays_of_each_candidates_path() {
         shadow += occlusion as u64;
         // The closest-hit rays, in order, find the camera subpath's vertices, then the light's.
         let answers: Vec<u32> =
-            closest.iter().map(|r| shared::rays::cast(&scene.nodes, &scene.triangles, r)).collect();
+            closest.iter().map(|r| shared::rays::cast(&scene.shared().caster, r)).collect();
         let expected: Vec<u32> = (1..path.camera_vertices)
             .map(|i| vertex(k, 0, i).triangle + 1)
             .chain((1..path.light_vertices).map(|i| vertex(k, 1, i).triangle + 1))
@@ -108,7 +108,7 @@ fn the_device_replays_the_rays_like_the_host() {
     let replayed = replay(&gpu, &scene, &log, 2).expect("replay");
     let mut host = vec![0u32; log.candidates as usize];
     let p = RenderParams { candidates: log.candidates, ..Default::default() };
-    passes::raycast::cpu(&p, &scene.nodes, &scene.triangles, &log.rays, &mut host);
+    passes::raycast::cpu(&p, &scene.shared().caster, &log.rays, &mut host);
     let differ = host.iter().zip(&replayed.answers).filter(|(a, b)| a != b).count();
     println!(
         "{} rays ({:.2} per candidate) in {:.3} ms ({} clock): {:.2} M rays/s; {differ} of {} answers differ",
@@ -140,7 +140,7 @@ fn passes_are_timed_on_the_device() {
     let (params, cand_u, cand_depth) = candidates(&scene, 4096, 8);
     let log = log_candidates(&scene, &params, &cand_u, &cand_depth);
     let p = gpu.storage_from("params", &[RenderParams { candidates: log.candidates, ..Default::default() }]);
-    let nodes = gpu.storage_from("nodes", &scene.nodes);
+    let nodes = gpu.storage_from("nodes", scene.wide_nodes());
     let tris = gpu.storage_from("triangles", &scene.triangles);
     let rays = gpu.storage_from("rays", &log.rays);
     let answers = gpu.storage_zeroed::<u32>("answers", log.candidates as usize);

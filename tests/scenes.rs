@@ -4,6 +4,7 @@
 mod common;
 
 use glam::Vec3;
+use shared::ray_caster::RayCaster;
 use smlt::reference::{render_reference, ReferenceSettings};
 use smlt::scene::SceneData;
 
@@ -89,7 +90,7 @@ fn the_sunblind_light_is_invisible_from_the_room() {
         let t = lights[(next() * lights.len() as f32) as usize % lights.len()];
         let q = t.point(next() * 0.5, next() * 0.5);
         let d = (q - p).normalize();
-        let hit = shared::bvh::closest_hit(&scene.nodes, &scene.triangles, p, d, 1e-4, 1e30);
+        let hit = scene.shared().caster.closest_hit(p, d, 1e-4, 1e30);
         let mat = scene.materials[scene.triangles[hit.triangle as usize].material as usize];
         if hit.found() && mat.is_emissive() {
             through += 1;

@@ -3,15 +3,13 @@
 #![deny(missing_docs)]
 
 pub mod bench;
+pub mod caster;
+pub mod cmd;
 pub mod gpu;
-pub mod interval;
-pub mod metrics;
+pub mod hash;
 pub mod output;
 pub mod part;
 pub mod passes;
-pub mod plots;
-pub mod profile;
-pub mod raycast;
 pub mod reference;
 pub mod render;
 pub mod scene;

@@ -19,7 +19,7 @@ use shared::normalisation::Moments;
 use crate::render::{Accumulation, Rendered, Settings, Shard, Stats};
 
 /// The `format` value of a part written by this version.
-pub const FORMAT: &str = "smlt-part-1";
+pub const FORMAT: &str = "smlt-part-2";
 /// The layer attribute holding the part's JSON.
 const ATTRIBUTE: &str = "smltPart";
 
@@ -46,8 +46,12 @@ pub struct Identity {
     pub candidates: u32,
     /// Bootstrap samples.
     pub bootstrap_samples: u32,
-    /// Mutation schedule: "s1 s2 p_large".
-    pub mutation: String,
+    /// Kelemen's smallest small-step size (`shared::mutation::MutationParams::s1`).
+    pub s1: f32,
+    /// Kelemen's largest small-step size.
+    pub s2: f32,
+    /// Probability of a large step.
+    pub p_large: f32,
     /// Budget: "mpp M" or "seconds T".
     pub budget: String,
     /// Shards the render was split into.
@@ -68,7 +72,9 @@ impl Identity {
             method: s.method.to_string(),
             candidates: s.candidates,
             bootstrap_samples: s.bootstrap_samples,
-            mutation: format!("{} {} {}", s.mutation.s1, s.mutation.s2, s.mutation.p_large),
+            s1: s.mutation.s1,
+            s2: s.mutation.s2,
+            p_large: s.mutation.p_large,
             budget: match s.budget {
                 crate::render::Budget::Seconds(t) => format!("seconds {t}"),
                 crate::render::Budget::MutationsPerPixel(m) => format!("mpp {m}"),
@@ -93,7 +99,9 @@ impl Identity {
             "method",
             "candidates",
             "bootstrap_samples",
-            "mutation",
+            "s1",
+            "s2",
+            "p_large",
             "budget",
             "shard_count",
         ];

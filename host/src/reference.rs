@@ -2,7 +2,7 @@
 //! (`shared::path_tracer`), rendered long on the device or the CPU, and cached: the EXR is
 //! written with a sidecar `<out>.json` holding its settings and the scene's hash, and a later
 //! run with the same settings reuses it. The sidecar also holds the reference's own noise,
-//! estimated from the spread of its independent passes, so that the bench can show that the
+//! estimated from the spread of its independent rounds, so that the bench can show that the
 //! errors it compares are well above it.
 
 use std::path::{Path, PathBuf};
@@ -11,6 +11,7 @@ use shared::path_tracer::ReferenceParams;
 
 use crate::gpu::Gpu;
 use crate::passes;
+use crate::passes::buffers::{OnDevice, SceneBuffers};
 use crate::render::RenderError;
 use crate::scene::SceneData;
 
@@ -31,16 +32,6 @@ pub struct ReferenceSettings {
     pub spp: u32,
     /// Seed.
     pub seed: u32,
-}
-
-/// FNV-1a (64 bit) of `bytes`, as hex: a stable content hash for the cache key.
-pub fn content_hash(bytes: &[u8]) -> String {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for b in bytes {
-        h ^= *b as u64;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    format!("{h:016x}")
 }
 
 /// The sidecar holding a reference's settings.
@@ -68,6 +59,27 @@ pub fn cached(out: &Path, settings: &ReferenceSettings) -> Option<Sidecar> {
     (out.exists() && found.settings == *settings).then_some(found)
 }
 
+/// The reference at `out` for `settings`: the cached one when its sidecar holds the same
+/// settings, else rendered now (`per_round` samples a round, `progress` told the fraction done)
+/// and written with its sidecar. Returns the sidecar and whether it was rendered now.
+pub fn cached_or_render(
+    out: &Path,
+    scene: &SceneData,
+    settings: &ReferenceSettings,
+    gpu: Option<&Gpu>,
+    per_round: u32,
+    progress: impl FnMut(f64),
+) -> anyhow::Result<(Sidecar, bool)> {
+    if let Some(found) = cached(out, settings) {
+        return Ok((found, false));
+    }
+    let reference = render_reference(scene, settings, gpu, per_round, progress)?;
+    crate::output::write_images(out, settings.width, settings.height, &reference.rgb)?;
+    let written = Sidecar { settings: settings.clone(), noise_rmse: Some(reference.noise_rmse) };
+    write_sidecar(out, &written)?;
+    Ok((written, true))
+}
+
 /// Writes the sidecar of `out` (through a temporary file, so that a half-written one is never
 /// taken for a cache entry).
 pub fn write_sidecar(out: &Path, sidecar_data: &Sidecar) -> anyhow::Result<()> {
@@ -84,17 +96,17 @@ pub struct Reference {
     /// Linear rgb.
     pub rgb: Vec<f32>,
     /// Its estimated RMSE against the exact image: the standard error of each pixel's mean from
-    /// the spread of the independent passes' means, √(Σ(yᵢ − ȳ)² / (P(P − 1))), in root mean
-    /// square over pixels and channels (NaN with a single pass).
+    /// the spread of the independent rounds' means, √(Σ(yᵢ − ȳ)² / (P(P − 1))), in root mean
+    /// square over pixels and channels (NaN with a single round).
     pub noise_rmse: f64,
 }
 
-/// Renders the reference: `spp` samples per pixel in passes of `per_pass`, on `gpu` or the CPU.
+/// Renders the reference: `spp` samples per pixel in rounds of `per_round`, on `gpu` or the CPU.
 pub fn render_reference(
     scene: &SceneData,
     s: &ReferenceSettings,
     gpu: Option<&Gpu>,
-    per_pass: u32,
+    per_round: u32,
     mut progress: impl FnMut(f64),
 ) -> Result<Reference, RenderError> {
     let base = ReferenceParams {
@@ -105,23 +117,23 @@ pub fn render_reference(
         seed: s.seed,
         light_count: scene.lights.len() as u32,
         epsilon: scene.epsilon(),
-        samples: per_pass,
-        pass: 0,
-        samples_per_pass: per_pass,
+        samples: per_round,
+        round: 0,
+        samples_per_round: per_round,
     };
     let pixels = (s.width * s.height) as usize;
-    let passes_total = s.spp.div_ceil(per_pass);
+    let rounds = s.spp.div_ceil(per_round);
     let mut sum = vec![0.0f64; pixels * 3];
-    // Σ of each pass's per-pixel mean, and of its square, for the noise estimate.
-    let mut pass_means = vec![0.0f64; pixels * 3];
-    let mut pass_squares = vec![0.0f64; pixels * 3];
-    let mut add_pass = |part: &[f32], samples: u32| {
+    // Σ of each round's per-pixel mean, and of its square, for the noise estimate.
+    let mut round_means = vec![0.0f64; pixels * 3];
+    let mut round_squares = vec![0.0f64; pixels * 3];
+    let mut add_round = |part: &[f32], samples: u32| {
         for i in 0..part.len() {
             let v = part[i] as f64;
             sum[i] += v;
             let y = v / samples as f64;
-            pass_means[i] += y;
-            pass_squares[i] += y * y;
+            round_means[i] += y;
+            round_squares[i] += y * y;
         }
     };
     match gpu {
@@ -136,44 +148,43 @@ pub fn render_reference(
                 )));
             }
             let params = gpu.storage_from("reference params", &[base]);
-            let nodes = gpu.storage_from("BVH nodes", &scene.nodes);
-            let triangles = gpu.storage_from("triangles", &scene.triangles);
-            let materials = gpu.storage_from("materials", &scene.materials);
-            let lights = gpu.storage_from("lights", &scene.lights);
+            let b = SceneBuffers::new(&mut OnDevice(gpu.clone()), scene);
             let image = gpu.storage_zeroed::<f32>("reference image", pixels * 3);
-            let pass =
-                passes::reference::gpu(gpu, [&params, &nodes, &triangles, &materials, &lights, &image])?;
-            for i in 0..passes_total {
-                let p = ReferenceParams { pass: i, samples: per_pass.min(s.spp - i * per_pass), ..base };
+            let pass = passes::reference::gpu(
+                gpu,
+                [&params, &b.nodes, &b.triangles, &b.materials, &b.lights, &image],
+            )?;
+            for i in 0..rounds {
+                let p = ReferenceParams { round: i, samples: per_round.min(s.spp - i * per_round), ..base };
                 gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 pass.encode(gpu, &mut encoder, pixels as u32);
                 gpu.queue.submit([encoder.finish()]);
                 let part: Vec<f32> = gpu.read(&image, pixels * 3)?;
-                add_pass(&part, p.samples);
+                add_round(&part, p.samples);
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 encoder.clear_buffer(&image, 0, None);
                 gpu.queue.submit([encoder.finish()]);
-                progress((i + 1) as f64 / passes_total as f64);
+                progress((i + 1) as f64 / rounds as f64);
             }
         }
         None => {
             let shared_scene = scene.shared();
             let mut image = vec![0.0f32; pixels * 3];
-            for i in 0..passes_total {
-                let p = ReferenceParams { pass: i, samples: per_pass.min(s.spp - i * per_pass), ..base };
+            for i in 0..rounds {
+                let p = ReferenceParams { round: i, samples: per_round.min(s.spp - i * per_round), ..base };
                 image.iter_mut().for_each(|v| *v = 0.0);
                 passes::reference::cpu(&p, shared_scene, &mut image);
-                add_pass(&image, p.samples);
-                progress((i + 1) as f64 / passes_total as f64);
+                add_round(&image, p.samples);
+                progress((i + 1) as f64 / rounds as f64);
             }
         }
     }
-    let passes = passes_total as f64;
-    let variance: f64 = pass_means
+    let count = rounds as f64;
+    let variance: f64 = round_means
         .iter()
-        .zip(&pass_squares)
-        .map(|(m, q)| ((q - m * m / passes) / (passes * (passes - 1.0))).max(0.0))
+        .zip(&round_squares)
+        .map(|(m, q)| ((q - m * m / count) / (count * (count - 1.0))).max(0.0))
         .sum::<f64>()
         / (pixels * 3).max(1) as f64;
     Ok(Reference {

@@ -33,9 +33,7 @@ pub fn time_passes(gpu: &Gpu, passes: &[(&Pass, u32)]) -> Result<(Vec<f64>, Cloc
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             pass.encode(gpu, &mut encoder, threads);
             gpu.queue.submit([encoder.finish()]);
-            gpu.device
-                .poll(wgpu::PollType::wait_indefinitely())
-                .map_err(|e| GpuError::Readback(e.to_string()))?;
+            gpu.wait()?;
             seconds.push(start.elapsed().as_secs_f64());
         }
         return Ok((seconds, Clock::Wall));

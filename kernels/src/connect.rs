@@ -3,18 +3,21 @@
 //! contribution (F in rgb, the pixel index as the bits of w; seed §5.3).
 
 use shared::bsdf::Material;
-use shared::bvh::{BvhNode, Triangle};
+use shared::cwbvh::{WideBvh, WideNode};
 use shared::light::LightEntry;
-use shared::mmlt::{connect_candidate, pack_connection, PathInfo, PathVertex, RenderParams, Samples, Scene};
+use shared::mmlt::{connect_candidate, pack_connection, PathInfo, PathVertex, RenderParams, Samples};
+use shared::ray_caster::RayCaster;
+use shared::scene::Scene;
+use shared::triangle::Triangle;
 use spirv_std::glam::{UVec3, Vec4};
 use spirv_std::spirv;
 
 /// The kernel body for candidate `k`.
-pub fn connect(
+pub fn connect<R: RayCaster>(
     k: usize,
     params: &RenderParams,
     cand_u: &[f32],
-    scene: Scene,
+    scene: Scene<R>,
     vertices: &[PathVertex],
     paths: &[PathInfo],
     contributions: &mut [Vec4],
@@ -35,7 +38,7 @@ pub fn connect_cs(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] cand_u: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] nodes: &[BvhNode],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] nodes: &[WideNode],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] triangles: &[Triangle],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] materials: &[Material],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] lights: &[LightEntry],
@@ -43,6 +46,6 @@ pub fn connect_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] paths: &[PathInfo],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] contributions: &mut [Vec4],
 ) {
-    let scene = Scene { nodes, triangles, materials, lights };
+    let scene = Scene { caster: WideBvh { nodes, triangles }, triangles, materials, lights };
     connect(id.x as usize, &params[0], cand_u, scene, vertices, paths, contributions);
 }

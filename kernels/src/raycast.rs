@@ -5,21 +5,16 @@
 //! invocations cast their j-th rays together, as they do in `trace` and `connect`; shorter
 //! lists are padded with `RAY_NONE`. Each invocation writes the sum of its answers.
 
-use shared::bvh::{BvhNode, Triangle};
+use shared::cwbvh::{WideBvh, WideNode};
 use shared::mmlt::RenderParams;
+use shared::ray_caster::RayCaster;
 use shared::rays::{cast, Ray};
+use shared::triangle::Triangle;
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
 /// The kernel body for candidate `k` (`params.candidates` = C).
-pub fn raycast(
-    k: usize,
-    params: &RenderParams,
-    nodes: &[BvhNode],
-    triangles: &[Triangle],
-    rays: &[Ray],
-    answers: &mut [u32],
-) {
+pub fn raycast<R: RayCaster>(k: usize, params: &RenderParams, caster: &R, rays: &[Ray], answers: &mut [u32]) {
     let candidates = params.candidates as usize;
     if k >= candidates {
         return;
@@ -27,7 +22,7 @@ pub fn raycast(
     let mut sum = 0u32;
     let mut j = k;
     while j < rays.len() {
-        sum = sum.wrapping_add(cast(nodes, triangles, &rays[j]));
+        sum = sum.wrapping_add(cast(caster, &rays[j]));
         j += candidates;
     }
     answers[k] = sum;
@@ -38,10 +33,10 @@ pub fn raycast(
 pub fn raycast_cs(
     #[spirv(global_invocation_id)] id: UVec3,
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[BvhNode],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[WideNode],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[Triangle],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[Ray],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] answers: &mut [u32],
 ) {
-    raycast(id.x as usize, &params[0], nodes, triangles, rays, answers);
+    raycast(id.x as usize, &params[0], &WideBvh { nodes, triangles }, rays, answers);
 }

@@ -2,20 +2,23 @@
 //! camera and light subpaths into the vertex buffer (`shared::mmlt::trace_candidate`).
 
 use shared::bsdf::Material;
-use shared::bvh::{BvhNode, Triangle};
+use shared::cwbvh::{WideBvh, WideNode};
 use shared::light::LightEntry;
-use shared::mmlt::{trace_candidate, PathInfo, PathVertex, RenderParams, Samples, Scene};
+use shared::mmlt::{trace_candidate, PathInfo, PathVertex, RenderParams, Samples};
+use shared::ray_caster::RayCaster;
+use shared::scene::Scene;
+use shared::triangle::Triangle;
 use spirv_std::glam::UVec3;
 use spirv_std::spirv;
 
 /// The kernel body for candidate `k`.
 #[allow(clippy::too_many_arguments)]
-pub fn trace(
+pub fn trace<R: RayCaster>(
     k: usize,
     params: &RenderParams,
     cand_depth: &[u32],
     cand_u: &[f32],
-    scene: Scene,
+    scene: Scene<R>,
     vertices: &mut [PathVertex],
     paths: &mut [PathInfo],
 ) {
@@ -36,13 +39,13 @@ pub fn trace_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] cand_depth: &[u32],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] cand_u: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] nodes: &[BvhNode],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] nodes: &[WideNode],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] triangles: &[Triangle],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] materials: &[Material],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] lights: &[LightEntry],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] vertices: &mut [PathVertex],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] paths: &mut [PathInfo],
 ) {
-    let scene = Scene { nodes, triangles, materials, lights };
+    let scene = Scene { caster: WideBvh { nodes, triangles }, triangles, materials, lights };
     trace(id.x as usize, &params[0], cand_depth, cand_u, scene, vertices, paths);
 }

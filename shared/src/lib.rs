@@ -12,7 +12,9 @@
 //! - [`tree`]: the speculative mutation tree (seed §4, Eq. 2 and Eq. 3 generalised);
 //! - [`reject_chain`]: the reject chain of Byrd et al. (seed §3.3);
 //! - [`layout`]: SoA indexing and the packed `float4` contribution;
-//! - [`camera`], [`bsdf`], [`light`], [`bvh`]: the scene primitives;
+//! - [`camera`], [`bsdf`], [`light`], [`triangle`]: the scene primitives;
+//! - [`ray_caster`]: the one seam between the path code and ray casting, and [`cwbvh`], the
+//!   device's caster (a compressed 8-wide BVH); [`scene`]: what the kernels read of a scene;
 //! - [`mmlt`]: Multiplexed MLT path sampling (the trace and connect stages);
 //! - [`path_tracer`]: the independent reference estimator;
 //! - [`rays`]: ray queries as data, for the bench's bare ray throughput.
@@ -21,8 +23,8 @@
 
 pub mod acceptance;
 pub mod bsdf;
-pub mod bvh;
 pub mod camera;
+pub mod cwbvh;
 pub mod discrete;
 pub mod layout;
 pub mod light;
@@ -30,9 +32,12 @@ pub mod mmlt;
 pub mod mutation;
 pub mod normalisation;
 pub mod path_tracer;
+pub mod ray_caster;
 pub mod rays;
 pub mod reject_chain;
 pub mod rng;
+pub mod scene;
 pub mod tree;
+pub mod triangle;
 
 pub use glam;

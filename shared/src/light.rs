@@ -1,7 +1,7 @@
 //! Area lights: emissive triangles. A light point is chosen by picking an emissive triangle in
 //! proportion to its power (area × luminance of its emission; a CDF over the emissive
 //! triangles is uploaded) and a uniform point on it; its area density is therefore
-//! `pick(triangle) / area(triangle)`, which each triangle carries ([`crate::bvh::Triangle`]).
+//! `pick(triangle) / area(triangle)`, which each triangle carries ([`crate::triangle::Triangle`]).
 //! Emission is one-sided, along the triangle's geometric normal (counter-clockwise winding),
 //! and directions leaving a light are sampled cosine-weighted about that normal.
 

@@ -15,13 +15,16 @@ use spirv_std::num_traits::Float;
 use glam::{Vec2, Vec3};
 
 use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample};
-use crate::bvh::{closest_hit, occluded, NO_HIT};
 use crate::camera::Camera;
 use crate::light::emitted;
-use crate::mmlt::{sample_light, spawn, Scene};
+use crate::mmlt::{sample_light, spawn};
+use crate::ray_caster::RayCaster;
 use crate::rng::{self, RngKey};
+use crate::scene::Scene;
+use crate::triangle::NO_HIT;
 
-/// What the reference pass knows (uploaded before each of its passes).
+/// What the reference kernel knows (uploaded before each of its rounds: a round adds
+/// `samples` samples to every pixel, and the rounds' spread estimates the reference's noise).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ReferenceParams {
@@ -39,12 +42,12 @@ pub struct ReferenceParams {
     pub light_count: u32,
     /// Ray-origin offset, relative to the scene's size.
     pub epsilon: f32,
-    /// Samples per pixel in this pass.
+    /// Samples per pixel in this round.
     pub samples: u32,
-    /// The pass: its samples are numbers `pass · samples_per_pass + i`.
-    pub pass: u32,
-    /// Samples per pixel of a full pass (the numbering stride).
-    pub samples_per_pass: u32,
+    /// The round: its samples are numbers `round · samples_per_round + i`.
+    pub round: u32,
+    /// Samples per pixel of a full round (the numbering stride).
+    pub samples_per_round: u32,
 }
 
 /// Power heuristic weight of a technique with density `a` against one with density `b`.
@@ -69,7 +72,12 @@ fn vertex_uniforms(params: &ReferenceParams, pixel: u32, sample: u32, v: u32) ->
 
 /// One path-traced estimate of the radiance through a uniform point of pixel `pixel`.
 #[inline]
-pub fn pixel_sample(params: &ReferenceParams, scene: Scene, pixel: u32, sample: u32) -> Vec3 {
+pub fn pixel_sample<R: RayCaster>(
+    params: &ReferenceParams,
+    scene: Scene<R>,
+    pixel: u32,
+    sample: u32,
+) -> Vec3 {
     let cam = params.camera;
     let width = params.width;
     let u0 = vertex_uniforms(params, pixel, sample, 0);
@@ -82,7 +90,7 @@ pub fn pixel_sample(params: &ReferenceParams, scene: Scene, pixel: u32, sample: 
     let mut pdf_bsdf_prev = 0.0f32;
     let mut v = 1u32;
     while v <= params.max_depth + 1 {
-        let hit = closest_hit(scene.nodes, scene.triangles, origin, d, 0.0, NO_HIT);
+        let hit = scene.caster.closest_hit(origin, d, 0.0, NO_HIT);
         if !hit.found() {
             break;
         }
@@ -133,7 +141,7 @@ pub fn pixel_sample(params: &ReferenceParams, scene: Scene, pixel: u32, sample: 
                 let target = spawn(q, nq, -wl, params.epsilon);
                 let span = target - from;
                 let len = span.length();
-                if !occluded(scene.nodes, scene.triangles, from, span / len, 0.0, len) {
+                if !scene.caster.occluded(from, span / len, 0.0, len) {
                     let weight = power_heuristic(pdf_light, bsdf_pdf(&m, n, wo, wl));
                     radiance += beta * f * le * (n.dot(wl).abs() * weight / pdf_light);
                 }
@@ -153,13 +161,13 @@ pub fn pixel_sample(params: &ReferenceParams, scene: Scene, pixel: u32, sample: 
     radiance
 }
 
-/// `params.samples` samples of pixel `pixel` for pass `params.pass`, summed.
+/// `params.samples` samples of pixel `pixel` for round `params.round`, summed.
 #[inline]
-pub fn pixel_pass(params: &ReferenceParams, scene: Scene, pixel: u32) -> Vec3 {
+pub fn pixel_round<R: RayCaster>(params: &ReferenceParams, scene: Scene<R>, pixel: u32) -> Vec3 {
     let mut sum = Vec3::ZERO;
     let mut i = 0;
     while i < params.samples {
-        let l = pixel_sample(params, scene, pixel, params.pass * params.samples_per_pass + i);
+        let l = pixel_sample(params, scene, pixel, params.round * params.samples_per_round + i);
         // A NaN or infinite sample is dropped, not averaged in.
         if l.is_finite() {
             sum += l;

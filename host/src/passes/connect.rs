@@ -3,11 +3,13 @@
 
 use glam::Vec4;
 use kernels::connect::connect;
-use shared::mmlt::{PathInfo, PathVertex, RenderParams, Scene};
+use shared::mmlt::{PathInfo, PathVertex, RenderParams};
+use shared::ray_caster::RayCaster;
+use shared::scene::Scene;
 
+use super::buffers::GpuBuffers;
 use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::gpu::GpuBuffers;
 
 /// The GPU pass.
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
@@ -16,23 +18,23 @@ pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
         Stage::Connect.entry_point(),
         &[
             Binding::Read(&b.params),
-            Binding::Read(&b.cand_u),
-            Binding::Read(&b.nodes),
-            Binding::Read(&b.triangles),
-            Binding::Read(&b.materials),
-            Binding::Read(&b.lights),
-            Binding::Read(&b.vertices),
-            Binding::Read(&b.paths),
-            Binding::Write(&b.contributions),
+            Binding::Read(&b.iteration.cand_u),
+            Binding::Read(&b.scene.nodes),
+            Binding::Read(&b.scene.triangles),
+            Binding::Read(&b.scene.materials),
+            Binding::Read(&b.scene.lights),
+            Binding::Read(&b.iteration.vertices),
+            Binding::Read(&b.iteration.paths),
+            Binding::Write(&b.iteration.contributions),
         ],
     )
 }
 
 /// The same body on the CPU, over every candidate.
-pub fn cpu(
+pub fn cpu<R: RayCaster>(
     params: &RenderParams,
     cand_u: &[f32],
-    scene: Scene,
+    scene: Scene<R>,
     vertices: &[PathVertex],
     paths: &[PathInfo],
     contributions: &mut [Vec4],

@@ -2,6 +2,7 @@
 //! reads them), and the same kernel body run on the CPU. [`Pass`] is a compute pipeline with
 //! its bind group.
 
+pub mod buffers;
 pub mod connect;
 pub mod mutate;
 pub mod raycast;
@@ -34,8 +35,11 @@ pub enum Stage {
 }
 
 impl Stage {
+    /// How many there are.
+    pub const COUNT: usize = 5;
+
     /// The stages of one iteration, in order.
-    pub const ITERATION: [Stage; 5] =
+    pub const ITERATION: [Stage; Stage::COUNT] =
         [Stage::Mutate, Stage::Trace, Stage::Connect, Stage::Select, Stage::Splat];
 
     /// The stage's name (its file names in `kernels/src` and `host/src/passes`).
@@ -57,6 +61,17 @@ impl Stage {
             Stage::Connect => "connect_cs",
             Stage::Select => "select_cs",
             Stage::Splat => "splat_cs",
+        }
+    }
+
+    /// The stage's compute pass over a render's device buffers.
+    pub fn pass(self, gpu: &Gpu, b: &buffers::GpuBuffers) -> Result<Pass, GpuError> {
+        match self {
+            Stage::Mutate => mutate::gpu(gpu, b),
+            Stage::Trace => trace::gpu(gpu, b),
+            Stage::Connect => connect::gpu(gpu, b),
+            Stage::Select => select::gpu(gpu, b),
+            Stage::Splat => splat::gpu(gpu, b),
         }
     }
 
@@ -89,6 +104,7 @@ pub enum Binding<'a> {
 pub struct Pass {
     pipeline: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
+    writable: Vec<bool>,
 }
 
 impl Pass {
@@ -103,7 +119,13 @@ impl Pass {
             })
             .collect();
         let bind_group = gpu.bind(&layout, &list);
-        Ok(Self { pipeline, bind_group })
+        let writable = read_only.iter().map(|r| !r).collect();
+        Ok(Self { pipeline, bind_group, writable })
+    }
+
+    /// Whether the kernel may write each binding, in binding order (as its layout declares).
+    pub fn writable(&self) -> &[bool] {
+        &self.writable
     }
 
     /// Records a dispatch of `threads` invocations.

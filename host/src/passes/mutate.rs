@@ -4,9 +4,9 @@
 use kernels::mutate::mutate;
 use shared::mmlt::{ChainState, RenderParams};
 
+use super::buffers::GpuBuffers;
 use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::gpu::GpuBuffers;
 
 /// The GPU pass.
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
@@ -15,10 +15,10 @@ pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
         Stage::Mutate.entry_point(),
         &[
             Binding::Read(&b.params),
-            Binding::Read(&b.chains),
-            Binding::Read(&b.chain_u),
-            Binding::Write(&b.cand_u),
-            Binding::Write(&b.cand_depth),
+            Binding::Read(&b.iteration.chains),
+            Binding::Read(&b.iteration.chain_u),
+            Binding::Write(&b.iteration.cand_u),
+            Binding::Write(&b.iteration.cand_depth),
         ],
     )
 }

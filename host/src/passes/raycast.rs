@@ -2,8 +2,8 @@
 //! (`k + j·C`) and one answer word per candidate.
 
 use kernels::raycast::raycast;
-use shared::bvh::{BvhNode, Triangle};
 use shared::mmlt::RenderParams;
+use shared::ray_caster::RayCaster;
 use shared::rays::Ray;
 
 use super::{Binding, Pass};
@@ -26,14 +26,8 @@ pub fn gpu(gpu: &Gpu, buffers: [&wgpu::Buffer; 5]) -> Result<Pass, GpuError> {
 }
 
 /// The same body on the CPU, over every candidate.
-pub fn cpu(
-    params: &RenderParams,
-    nodes: &[BvhNode],
-    triangles: &[Triangle],
-    rays: &[Ray],
-    answers: &mut [u32],
-) {
+pub fn cpu<R: RayCaster>(params: &RenderParams, caster: &R, rays: &[Ray], answers: &mut [u32]) {
     for k in 0..params.candidates as usize {
-        raycast(k, params, nodes, triangles, rays, answers);
+        raycast(k, params, caster, rays, answers);
     }
 }

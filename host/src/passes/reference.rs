@@ -2,8 +2,9 @@
 //! runs over the pixels in parallel (each pixel is its own output).
 
 use rayon::prelude::*;
-use shared::mmlt::Scene;
 use shared::path_tracer::ReferenceParams;
+use shared::ray_caster::RayCaster;
+use shared::scene::Scene;
 
 use super::{Binding, Pass};
 use crate::gpu::{Gpu, GpuError};
@@ -25,10 +26,10 @@ pub fn gpu(gpu: &Gpu, buffers: [&wgpu::Buffer; 6]) -> Result<Pass, GpuError> {
     )
 }
 
-/// The same body on the CPU: adds one pass of samples to every pixel of `image` (rgb).
-pub fn cpu(params: &ReferenceParams, scene: Scene, image: &mut [f32]) {
+/// The same body on the CPU: adds one round of samples to every pixel of `image` (rgb).
+pub fn cpu<R: RayCaster + Sync>(params: &ReferenceParams, scene: Scene<R>, image: &mut [f32]) {
     image.par_chunks_mut(3).enumerate().for_each(|(i, px)| {
-        let sum = shared::path_tracer::pixel_pass(params, scene, i as u32);
+        let sum = shared::path_tracer::pixel_round(params, scene, i as u32);
         px[0] += sum.x;
         px[1] += sum.y;
         px[2] += sum.z;

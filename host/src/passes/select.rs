@@ -5,9 +5,9 @@ use glam::Vec4;
 use kernels::select::select;
 use shared::mmlt::{ChainState, RenderParams};
 
+use super::buffers::GpuBuffers;
 use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::gpu::GpuBuffers;
 
 /// The GPU pass.
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
@@ -16,12 +16,12 @@ pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
         Stage::Select.entry_point(),
         &[
             Binding::Read(&b.params),
-            Binding::Write(&b.chains),
-            Binding::Write(&b.chain_u),
-            Binding::Read(&b.cand_u),
-            Binding::Read(&b.cand_depth),
-            Binding::Read(&b.contributions),
-            Binding::Write(&b.splats),
+            Binding::Write(&b.iteration.chains),
+            Binding::Write(&b.iteration.chain_u),
+            Binding::Read(&b.iteration.cand_u),
+            Binding::Read(&b.iteration.cand_depth),
+            Binding::Read(&b.iteration.contributions),
+            Binding::Write(&b.iteration.splats),
         ],
     )
 }

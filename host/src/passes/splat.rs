@@ -5,16 +5,16 @@ use glam::Vec4;
 use kernels::splat::splat;
 use shared::mmlt::RenderParams;
 
+use super::buffers::GpuBuffers;
 use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::gpu::GpuBuffers;
 
 /// The GPU pass.
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
     Pass::new(
         gpu,
         Stage::Splat.entry_point(),
-        &[Binding::Read(&b.params), Binding::Read(&b.splats), Binding::Write(&b.image)],
+        &[Binding::Read(&b.params), Binding::Read(&b.iteration.splats), Binding::Write(&b.image)],
     )
 }
 

@@ -2,11 +2,13 @@
 //! the vertex and path-info buffers.
 
 use kernels::trace::trace;
-use shared::mmlt::{PathInfo, PathVertex, RenderParams, Scene};
+use shared::mmlt::{PathInfo, PathVertex, RenderParams};
+use shared::ray_caster::RayCaster;
+use shared::scene::Scene;
 
+use super::buffers::GpuBuffers;
 use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
-use crate::render::gpu::GpuBuffers;
 
 /// The GPU pass.
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
@@ -15,24 +17,24 @@ pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
         Stage::Trace.entry_point(),
         &[
             Binding::Read(&b.params),
-            Binding::Read(&b.cand_depth),
-            Binding::Read(&b.cand_u),
-            Binding::Read(&b.nodes),
-            Binding::Read(&b.triangles),
-            Binding::Read(&b.materials),
-            Binding::Read(&b.lights),
-            Binding::Write(&b.vertices),
-            Binding::Write(&b.paths),
+            Binding::Read(&b.iteration.cand_depth),
+            Binding::Read(&b.iteration.cand_u),
+            Binding::Read(&b.scene.nodes),
+            Binding::Read(&b.scene.triangles),
+            Binding::Read(&b.scene.materials),
+            Binding::Read(&b.scene.lights),
+            Binding::Write(&b.iteration.vertices),
+            Binding::Write(&b.iteration.paths),
         ],
     )
 }
 
 /// The same body on the CPU, over every candidate.
-pub fn cpu(
+pub fn cpu<R: RayCaster>(
     params: &RenderParams,
     cand_depth: &[u32],
     cand_u: &[f32],
-    scene: Scene,
+    scene: Scene<R>,
     vertices: &mut [PathVertex],
     paths: &mut [PathInfo],
 ) {

@@ -11,112 +11,56 @@
 
 use glam::Vec4;
 use rayon::prelude::*;
-use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex, RenderParams, Scene};
+use shared::mmlt::{ChainState, RenderParams};
 
 use super::{Accumulation, Backend, RenderError};
+use crate::passes::buffers::{IterationBuffers, OnHost};
 use crate::passes::{self, Stage};
+use crate::render::gpu::PassTimes;
 use crate::scene::SceneData;
 
 /// Candidates per group of chains (at least one chain per group).
 pub const GROUP_CANDIDATES: u32 = 128;
 
-/// One group's host buffers (the same layout as the device's), and the stages over them.
+/// One group's host buffers (the device's layout, `passes::buffers`) over a scene, and the
+/// stages over them.
 pub struct CpuBuffers<'a> {
     scene: &'a SceneData,
-    /// Chain samples, SoA.
-    pub chain_u: Vec<f32>,
-    /// Chain states.
-    pub chains: Vec<ChainState>,
-    /// Candidate samples, SoA.
-    pub cand_u: Vec<f32>,
-    /// Candidate path depths.
-    pub cand_depth: Vec<u32>,
-    /// Subpath vertices, SoA.
-    pub vertices: Vec<PathVertex>,
-    /// Path infos.
-    pub paths: Vec<PathInfo>,
-    /// Packed contributions.
-    pub contributions: Vec<Vec4>,
-    /// Splat records.
-    pub splats: Vec<Vec4>,
+    /// What the stages read and write.
+    pub iteration: IterationBuffers<OnHost>,
 }
 
 impl<'a> CpuBuffers<'a> {
     /// Allocates the buffers for `params`.
     pub fn new(scene: &'a SceneData, params: &RenderParams) -> Self {
-        let c = params.candidates as usize;
-        let n = params.chains as usize;
-        let dims = params.dims as usize;
-        Self {
-            scene,
-            chain_u: vec![0.0; n * dims],
-            chains: vec![ChainState::default(); n],
-            cand_u: vec![0.0; c * dims],
-            cand_depth: vec![0; c],
-            vertices: vec![PathVertex::default(); c * vertex_slots(params.max_depth) as usize],
-            paths: vec![PathInfo::default(); c],
-            contributions: vec![Vec4::ZERO; c],
-            splats: vec![Vec4::ZERO; kernels::splat::splat_records(params) as usize],
-        }
+        Self { scene, iteration: IterationBuffers::new(&mut OnHost, params) }
     }
 
-    fn scene(&self) -> Scene<'a> {
-        self.scene.shared()
-    }
-
-    /// The `mutate` stage.
-    pub fn mutate(&mut self, params: &RenderParams) {
-        passes::mutate::cpu(params, &self.chains, &self.chain_u, &mut self.cand_u, &mut self.cand_depth);
-    }
-
-    /// The `trace` stage.
-    pub fn trace(&mut self, params: &RenderParams) {
-        let scene = self.scene();
-        passes::trace::cpu(
-            params,
-            &self.cand_depth,
-            &self.cand_u,
-            scene,
-            &mut self.vertices,
-            &mut self.paths,
-        );
-    }
-
-    /// The `connect` stage.
-    pub fn connect(&mut self, params: &RenderParams) {
-        let scene = self.scene();
-        passes::connect::cpu(
-            params,
-            &self.cand_u,
-            scene,
-            &self.vertices,
-            &self.paths,
-            &mut self.contributions,
-        );
-    }
-
-    /// The `select` stage.
-    pub fn select(&mut self, params: &RenderParams) {
-        passes::select::cpu(
-            params,
-            &mut self.chains,
-            &mut self.chain_u,
-            &self.cand_u,
-            &self.cand_depth,
-            &self.contributions,
-            &mut self.splats,
-        );
-    }
-
-    /// Runs `stage` over these buffers (the splat stage adds the records to `image`, an f64
-    /// rgb image).
+    /// Runs `stage` over these buffers: the kernel body once per invocation (the splat stage
+    /// adds the records to `image`, an f64 rgb image).
     pub fn run(&mut self, stage: Stage, params: &RenderParams, image: &mut [f64]) {
+        let b = &mut self.iteration;
+        let scene = self.scene.shared();
         match stage {
-            Stage::Mutate => self.mutate(params),
-            Stage::Trace => self.trace(params),
-            Stage::Connect => self.connect(params),
-            Stage::Select => self.select(params),
-            Stage::Splat => passes::splat::cpu(params, &self.splats, image),
+            Stage::Mutate => {
+                passes::mutate::cpu(params, &b.chains, &b.chain_u, &mut b.cand_u, &mut b.cand_depth)
+            }
+            Stage::Trace => {
+                passes::trace::cpu(params, &b.cand_depth, &b.cand_u, scene, &mut b.vertices, &mut b.paths)
+            }
+            Stage::Connect => {
+                passes::connect::cpu(params, &b.cand_u, scene, &b.vertices, &b.paths, &mut b.contributions)
+            }
+            Stage::Select => passes::select::cpu(
+                params,
+                &mut b.chains,
+                &mut b.chain_u,
+                &b.cand_u,
+                &b.cand_depth,
+                &b.contributions,
+                &mut b.splats,
+            ),
+            Stage::Splat => passes::splat::cpu(params, &b.splats, image),
         }
     }
 
@@ -126,7 +70,7 @@ impl<'a> CpuBuffers<'a> {
         for stage in [Stage::Mutate, Stage::Trace, Stage::Connect] {
             self.run(stage, params, &mut []);
         }
-        self.contributions[..params.candidates as usize].to_vec()
+        self.iteration.contributions[..params.candidates as usize].to_vec()
     }
 }
 
@@ -202,14 +146,56 @@ impl<'a> CpuBackend<'a> {
     }
 }
 
+impl CpuBackend<'_> {
+    /// One iteration stage by stage — each stage over every group before the next — with each
+    /// stage's wall time (the bench's look inside an iteration). The image is the same as
+    /// [`Backend::iterate`]'s: every group's stages still run in order, the splats in group order.
+    pub fn iterate_timed(&mut self, params: &RenderParams) -> PassTimes {
+        let mut times = [0.0; Stage::COUNT];
+        for stage in Stage::ITERATION {
+            let start = std::time::Instant::now();
+            if stage == Stage::Splat {
+                for g in &mut self.groups {
+                    let p = g.params(params);
+                    g.buffers.run(stage, &p, &mut self.image);
+                }
+            } else {
+                let groups = &mut self.groups;
+                self.pool.install(|| {
+                    groups.par_iter_mut().for_each(|g| {
+                        let p = g.params(params);
+                        g.buffers.run(stage, &p, &mut []);
+                    })
+                });
+            }
+            times[stage.index()] = start.elapsed().as_secs_f64();
+        }
+        times
+    }
+
+    /// Each group's dispatch parameters within `params`, candidate samples and depths (as the
+    /// last `mutate` left them).
+    pub fn candidates(&self, params: &RenderParams) -> Vec<(RenderParams, &[f32], &[u32])> {
+        self.groups
+            .iter()
+            .map(|g| (g.params(params), &g.buffers.iteration.cand_u[..], &g.buffers.iteration.cand_depth[..]))
+            .collect()
+    }
+
+    /// The threads.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+}
+
 impl Backend for CpuBackend<'_> {
     fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError> {
         let n = self.chains as usize;
         for g in &mut self.groups {
             let (first, count) = (g.first as usize, g.chains as usize);
-            g.buffers.chains.copy_from_slice(&chains[first..first + count]);
+            g.buffers.iteration.chains.copy_from_slice(&chains[first..first + count]);
             for dim in 0..self.dims as usize {
-                g.buffers.chain_u[dim * count..(dim + 1) * count]
+                g.buffers.iteration.chain_u[dim * count..(dim + 1) * count]
                     .copy_from_slice(&chain_u[dim * n + first..dim * n + first + count]);
             }
         }
@@ -245,7 +231,7 @@ impl Backend for CpuBackend<'_> {
             *v = 0.0;
         }
         for g in &mut self.groups {
-            for chain in &mut g.buffers.chains {
+            for chain in &mut g.buffers.iteration.chains {
                 acc.drain_chain(chain);
             }
         }

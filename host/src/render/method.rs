@@ -3,8 +3,9 @@
 
 use std::str::FromStr;
 
+use shared::mmlt::{candidates_per_chain, METHOD_REJECT_CHAIN, METHOD_TREE};
 use shared::reject_chain::MAX_REJECT_CHAIN;
-use shared::tree::{candidate_count, MAX_TREE_DEPTH};
+use shared::tree::MAX_TREE_DEPTH;
 
 /// How the chains are parallelised.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -18,9 +19,9 @@ pub enum Method {
 impl Method {
     /// Candidates traced per chain and iteration.
     pub fn candidates_per_chain(&self) -> u32 {
-        match self {
-            Method::Tree(d) => candidate_count(*d),
-            Method::RejectChain(l) => *l,
+        match *self {
+            Method::Tree(d) => candidates_per_chain(METHOD_TREE, d, 0),
+            Method::RejectChain(l) => candidates_per_chain(METHOD_REJECT_CHAIN, 1, l),
         }
     }
 }

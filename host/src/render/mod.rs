@@ -13,7 +13,10 @@ pub mod settings;
 pub use accumulation::Accumulation;
 pub use method::Method;
 pub use renderer::{normalisation, render, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};
-pub use settings::{base_params, default_candidates, Budget, Settings, Shard};
+pub use settings::{
+    base_params, default_candidates, Budget, Settings, Shard, DEFAULT_BOOTSTRAP, DEFAULT_MAX_DEPTH,
+    DEFAULT_MUTATIONS_PER_PIXEL, DEFAULT_WIDTH,
+};
 
 use shared::mmlt::{ChainState, RenderParams};
 
@@ -36,6 +39,11 @@ pub enum RenderError {
 
 /// Where the passes run: the same five kernels on the device or on CPU threads.
 pub trait Backend {
+    /// Whether the backend compiles its kernels at run time (a Vulkan driver does; the CPU
+    /// backend's kernels are compiled Rust).
+    fn compiles_kernels(&self) -> bool {
+        false
+    }
     /// Prepares every kernel a render with `params` runs (compiles them, on drivers that
     /// compile at first use), so that no compilation falls into the render's time.
     fn warm_up(&mut self, _params: &RenderParams) -> Result<(), RenderError> {

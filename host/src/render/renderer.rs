@@ -36,8 +36,9 @@ pub struct Stats {
     pub acceptance: f64,
     /// Candidates rejected because F was NaN or infinite (never splatted).
     pub invalid: u64,
-    /// Seconds spent preparing the device's kernels (compilation) before the clock started.
-    pub compile_seconds: f64,
+    /// Seconds spent preparing the device's kernels (compilation) before the clock started;
+    /// None where there is nothing to compile (the CPU backend).
+    pub compile_seconds: Option<f64>,
     /// Seconds of the bootstrap.
     pub bootstrap_seconds: f64,
     /// Seconds of the iterations (what `--time` counts).
@@ -126,6 +127,10 @@ pub trait Observer {
     }
     /// The image so far, normalised like a finished render.
     fn checkpoint(&mut self, _image: &Rendered) {}
+    /// The backend is about to prepare its kernels (which may take a while on first use).
+    fn compiling(&mut self) {}
+    /// The kernels are ready.
+    fn compiled(&mut self) {}
 }
 
 impl<F: FnMut(f64)> Observer for F {
@@ -150,13 +155,25 @@ pub struct Renderer<'a> {
 }
 
 impl<'a> Renderer<'a> {
-    /// Prepares the backend's kernels, bootstraps (on the host: the same for every shard and
-    /// device) and starts this shard's chains. None of it counts as render time.
-    pub fn start(scene: &SceneData, s: &Settings, backend: &'a mut dyn Backend) -> Result<Self, RenderError> {
+    /// Prepares the backend's kernels (telling `observer`), bootstraps (on the host: the same
+    /// for every shard and device) and starts this shard's chains. None of it counts as render
+    /// time.
+    pub fn start(
+        scene: &SceneData,
+        s: &Settings,
+        backend: &'a mut dyn Backend,
+        observer: &mut dyn Observer,
+    ) -> Result<Self, RenderError> {
         let base = base_params(scene, s);
-        let compile = Instant::now();
-        backend.warm_up(&base)?;
-        let compile_seconds = compile.elapsed().as_secs_f64();
+        let compile_seconds = if backend.compiles_kernels() {
+            let compile = Instant::now();
+            observer.compiling();
+            backend.warm_up(&base)?;
+            observer.compiled();
+            Some(compile.elapsed().as_secs_f64())
+        } else {
+            None
+        };
         let boot = match backend.thread_pool() {
             Some(pool) => pool.install(|| bootstrap(scene, s))?,
             None => bootstrap(scene, s)?,
@@ -238,7 +255,7 @@ pub fn render(
     backend: &mut dyn Backend,
     mut observer: impl Observer,
 ) -> Result<Rendered, RenderError> {
-    let mut r = Renderer::start(scene, s, backend)?;
+    let mut r = Renderer::start(scene, s, backend, &mut observer)?;
     let iterations = match s.budget {
         Budget::MutationsPerPixel(m) => s.iterations_for(m),
         Budget::Seconds(_) => u64::MAX,

@@ -10,6 +10,15 @@ use shared::mutation::MutationParams;
 use super::Method;
 use crate::scene::SceneData;
 
+/// Image width when none is given.
+pub const DEFAULT_WIDTH: u32 = 256;
+/// Maximum bounces when none is given (the seed's ground truth).
+pub const DEFAULT_MAX_DEPTH: u32 = 10;
+/// Bootstrap samples when none is given.
+pub const DEFAULT_BOOTSTRAP: u32 = 65536;
+/// Candidates per pixel when neither `--time` nor `--mutations-per-pixel` is given.
+pub const DEFAULT_MUTATIONS_PER_PIXEL: f64 = 64.0;
+
 /// When to stop.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Budget {

@@ -12,6 +12,9 @@ use base64::Engine;
 use glam::{Mat3, Quat, Vec3};
 use serde_json::{json, Value};
 
+use crate::hash::content_hash;
+use crate::scene::{files_hash, SceneData, SceneError};
+
 /// Two unit vectors orthogonal to `d` and to each other.
 pub fn frame(d: Vec3) -> (Vec3, Vec3) {
     let (t, b) = shared::bsdf::orthonormal_basis(d.normalize());
@@ -25,6 +28,36 @@ pub fn facing(q: [Vec3; 4], dir: Vec3) -> [Vec3; 4] {
         q
     } else {
         [q[3], q[2], q[1], q[0]]
+    }
+}
+
+/// The names of the generated scenes.
+pub const GENERATED: [&str; 5] = ["cornell", "atrium", "nave", "sunblind", "slit"];
+
+/// The embedded default scene (what `smlt scene cornell` writes).
+pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/cornell.gltf");
+
+/// A scene as a user names it: None is the embedded Cornell box, a generated scene's name is
+/// generated (with `tessellation`), anything else is a glTF file. Returns a label for file
+/// names and tables, the scene, and the hash of everything it was read from (a changed `.bin`
+/// changes it).
+pub fn open(name: Option<&str>, tessellation: u32) -> Result<(String, SceneData, String), SceneError> {
+    match name {
+        None => {
+            let scene = SceneData::from_slice(DEFAULT_SCENE.as_bytes(), "the embedded Cornell box")?;
+            Ok(("cornell".into(), scene, content_hash(DEFAULT_SCENE.as_bytes())))
+        }
+        Some(name) => match generate(name, tessellation) {
+            Some(text) => {
+                let scene = SceneData::from_slice(text.as_bytes(), name)?;
+                Ok((name.to_string(), scene, content_hash(text.as_bytes())))
+            }
+            None => {
+                let path = std::path::Path::new(name);
+                let label = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                Ok((label, SceneData::load(path)?, files_hash(path)?))
+            }
+        },
     }
 }
 

@@ -9,17 +9,24 @@ use core::f32::consts::PI;
 use glam::{Vec3, Vec4};
 
 use crate::bsdf::{bsdf_eval, bsdf_pdf};
-use crate::bvh::occluded;
 use crate::camera::Camera;
 use crate::layout::{pack_contribution, soa_index};
 use crate::light::emitted;
+use crate::ray_caster::RayCaster;
+use crate::scene::Scene;
 
 use super::*;
 
 /// The density of `from` (with predecessor `before`, or a light origin when `from` is a
 /// light endpoint) generating `to`, as an area density at `to`.
 #[inline]
-fn vertex_pdf(scene: Scene, camera: &Camera, before: Vec3, from: &PathVertex, to: &PathVertex) -> f32 {
+fn vertex_pdf<R: RayCaster>(
+    scene: Scene<R>,
+    camera: &Camera,
+    before: Vec3,
+    from: &PathVertex,
+    to: &PathVertex,
+) -> f32 {
     let p = from.position();
     let w = (to.position() - p).normalize_or_zero();
     let pdf_dir = if from.kind == KIND_CAMERA {
@@ -35,7 +42,7 @@ fn vertex_pdf(scene: Scene, camera: &Camera, before: Vec3, from: &PathVertex, to
 
 /// Density of a camera-subpath end point `pt` that lies on a light being the light's origin.
 #[inline]
-fn light_origin_pdf(scene: Scene, v: &PathVertex) -> f32 {
+fn light_origin_pdf<R: RayCaster>(scene: Scene<R>, v: &PathVertex) -> f32 {
     scene.triangles[v.triangle as usize].light_area_pdf
 }
 
@@ -64,9 +71,9 @@ pub struct Connection {
 /// shadow ray), computes the unweighted contribution, the balance-heuristic weight over all
 /// techniques, and F.
 #[inline]
-pub fn connect_candidate(
+pub fn connect_candidate<R: RayCaster>(
     params: &RenderParams,
-    scene: Scene,
+    scene: Scene<R>,
     u: &[f32],
     samples: Samples,
     info: &PathInfo,
@@ -171,7 +178,7 @@ pub fn connect_candidate(
             };
             let dir = target - from;
             let dist = dir.length();
-            if dist > 0.0 && occluded(scene.nodes, scene.triangles, from, dir / dist, 0.0, dist) {
+            if dist > 0.0 && scene.caster.occluded(from, dir / dist, 0.0, dist) {
                 l = Vec3::ZERO;
             }
         }
@@ -186,9 +193,9 @@ pub fn connect_candidate(
 /// The balance-heuristic weight of technique (s, t) for the connected path.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn mis_weight(
+fn mis_weight<R: RayCaster>(
     params: &RenderParams,
-    scene: Scene,
+    scene: Scene<R>,
     samples: Samples,
     vertices: &[PathVertex],
     s: u32,

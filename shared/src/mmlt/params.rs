@@ -73,15 +73,23 @@ pub const METHOD_TREE: u32 = 0;
 /// Chains evaluate a reject chain of `reject_length` proposals.
 pub const METHOD_REJECT_CHAIN: u32 = 1;
 
+/// Candidates a chain traces per iteration: the speculative tree's 2^d − 1 (`METHOD_TREE`,
+/// depth d = `tree_depth`) or the reject chain's l proposals (`METHOD_REJECT_CHAIN`, l =
+/// `reject_length`).
+#[inline]
+pub fn candidates_per_chain(method: u32, tree_depth: u32, reject_length: u32) -> u32 {
+    if method == METHOD_REJECT_CHAIN {
+        reject_length
+    } else {
+        crate::tree::candidate_count(tree_depth)
+    }
+}
+
 impl RenderParams {
     /// Candidates traced per chain and iteration: 2^d − 1 or l.
     #[inline]
     pub fn candidates_per_chain(&self) -> u32 {
-        if self.method == METHOD_REJECT_CHAIN {
-            self.reject_length
-        } else {
-            crate::tree::candidate_count(self.tree_depth)
-        }
+        candidates_per_chain(self.method, self.tree_depth, self.reject_length)
     }
 
     /// The render-wide index of this dispatch's chain `p` (what its random numbers are keyed by).

@@ -5,9 +5,11 @@ use core::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere, Material};
-use crate::bvh::{closest_hit, BvhNode, Triangle};
 use crate::layout::soa_index;
 use crate::light::{pick_light, uniform_triangle, LightEntry};
+use crate::ray_caster::RayCaster;
+use crate::scene::Scene;
+use crate::triangle::Triangle;
 
 use super::*;
 
@@ -52,27 +54,14 @@ pub fn sample_light(
     }
 }
 
-/// The scene as the passes see it (all slices are device buffers).
-#[derive(Clone, Copy)]
-pub struct Scene<'a> {
-    /// BVH nodes.
-    pub nodes: &'a [BvhNode],
-    /// Triangles in BVH order.
-    pub triangles: &'a [Triangle],
-    /// Materials.
-    pub materials: &'a [Material],
-    /// Light-selection CDF.
-    pub lights: &'a [LightEntry],
-}
-
 /// Extends a subpath from its first vertex (already stored) to at most `max_vertices`
 /// vertices by tracing rays and sampling BSDFs, storing each vertex and the reverse density of
 /// its predecessor. Returns the number of vertices the subpath has.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn random_walk(
+fn random_walk<R: RayCaster>(
     params: &RenderParams,
-    scene: Scene,
+    scene: Scene<R>,
     u: &[f32],
     samples: Samples,
     side: u32,
@@ -95,7 +84,7 @@ fn random_walk(
         spawn(first.position(), first.normal(), d, params.epsilon)
     };
     while count < max_vertices {
-        let hit = closest_hit(scene.nodes, scene.triangles, origin, d, 0.0, crate::bvh::NO_HIT);
+        let hit = scene.caster.closest_hit(origin, d, 0.0, crate::triangle::NO_HIT);
         if !hit.found() {
             break;
         }
@@ -143,9 +132,9 @@ fn random_walk(
 /// (t vertices, the pinhole first) and, for s ≥ 2, the light subpath (s vertices, a light
 /// point first) into the vertex buffer.
 #[inline]
-pub fn trace_candidate(
+pub fn trace_candidate<R: RayCaster>(
     params: &RenderParams,
-    scene: Scene,
+    scene: Scene<R>,
     u: &[f32],
     samples: Samples,
     depth: u32,

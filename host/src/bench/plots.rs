@@ -9,10 +9,10 @@ use std::sync::Once;
 
 use plotters::prelude::*;
 
-use crate::bench::{along_time, final_interval, Row};
+use crate::bench::results::{along_time, final_interval, views, Row};
 use crate::render::Method;
 
-static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
 fn register_font() {
@@ -20,16 +20,6 @@ fn register_font() {
         // The font is embedded and known good; a failure here would show as missing text only.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
     });
-}
-
-fn views(rows: &[Row]) -> Vec<(String, u32)> {
-    let mut v: Vec<(String, u32)> = Vec::new();
-    for r in rows {
-        if !v.contains(&(r.scene.clone(), r.view)) {
-            v.push((r.scene.clone(), r.view));
-        }
-    }
-    v
 }
 
 /// Fig. 7: speedup of candidates/s over naive (final measurements) against candidates per
@@ -106,7 +96,7 @@ pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::
             methods.push(&r.method);
         }
     }
-    let curves: Vec<Vec<(f64, crate::interval::Interval)>> =
+    let curves: Vec<Vec<(f64, crate::bench::interval::Interval)>> =
         methods.iter().map(|m| along_time(rows, scene, view, m, |r| r.errors.rmse)).collect();
     let (mut t0, mut t1, mut e0, mut e1) = (f64::MAX, 0.0f64, f64::MAX, 0.0f64);
     for (t, e) in curves.iter().flatten() {
@@ -148,5 +138,15 @@ pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::
     }
     chart.configure_series_labels().background_style(WHITE.mix(0.85)).border_style(BLACK).draw()?;
     root.present()?;
+    Ok(())
+}
+
+/// Writes the plots of `rows` into `out`: `speedup.png` and one `error_<scene>_v<view>.png` per
+/// scene view.
+pub fn plot(rows: &[Row], out: &Path) -> anyhow::Result<()> {
+    speedup_plot(rows, &out.join("speedup.png"))?;
+    for (scene, view) in views(rows) {
+        error_plot(rows, &scene, view, &out.join(format!("error_{scene}_v{view}.png")))?;
+    }
     Ok(())
 }

@@ -1,17 +1,20 @@
-//! The bench's look inside an iteration, per method: the device time of each pass (timestamp
-//! queries, `crate::timing`), and the ray-casting ceiling (`crate::raycast`): rays cast per
-//! candidate, the bare rays/s of replaying exactly those rays, and how close the measured
-//! mutation throughput comes to `rays/s ÷ rays per candidate`.
+//! The bench's look inside an iteration, per method: the time of each pass (timestamp queries
+//! on a device, `crate::timing`; wall time of each stage over all groups on the CPU backend),
+//! and the ray-casting ceiling (`crate::bench::raycast`): rays cast per candidate, the bare rays/s of
+//! replaying exactly those rays (on the device, or on the CPU backend's threads through its
+//! ray caster), and how close the measured mutation throughput comes to
+//! `rays/s ÷ rays per candidate`.
 //!
 //! Trace and connect time per candidate shows what the candidates' coherence buys; select's
 //! time shows what fewer chains (one select thread per chain) buy.
 
 use std::fmt::Write as _;
 
+use crate::bench::raycast::{log_candidates, replay, replay_on_host, RayLog};
 use crate::passes::Stage;
-use crate::raycast::{log_candidates, replay};
+use crate::render::cpu::CpuBackend;
 use crate::render::gpu::GpuBackend;
-use crate::render::RenderError;
+use crate::render::{Backend, RenderError};
 use crate::scene::SceneData;
 use crate::timing::Clock;
 use shared::mmlt::RenderParams;
@@ -35,21 +38,29 @@ pub struct Profile {
     /// How the passes were timed.
     pub clock: Clock,
     /// Mean device milliseconds of each stage per iteration ([`Stage::ITERATION`] order).
-    pub pass_ms: [f64; 5],
+    pub pass_ms: [f64; Stage::COUNT],
     /// Rays cast per candidate (trace and connect).
     pub rays_per_candidate: f64,
     /// Rays/s of the bare replay of those rays.
     pub bare_rays_per_s: f64,
     /// Candidates/s measured in the equal-time run.
     pub mutations_per_s: f64,
-    /// MiB of the render's device buffers (`render::gpu::device_bytes`).
+    /// MiB of the render's device buffers (`passes::buffers::device_bytes`; the CPU backend holds
+    /// the same buffers).
     pub device_mib: f64,
+    /// Threads of the CPU backend; 0 on a device.
+    pub threads: usize,
 }
 
 impl Profile {
     /// Candidates/s if the device did nothing but cast their rays.
     pub fn ceiling_mutations_per_s(&self) -> f64 {
         self.bare_rays_per_s / self.rays_per_candidate
+    }
+
+    /// Bare rays/s per CPU thread (per device on a device).
+    pub fn bare_rays_per_s_per_thread(&self) -> f64 {
+        self.bare_rays_per_s / self.threads.max(1) as f64
     }
 
     /// Measured over ceiling mutation throughput.
@@ -76,7 +87,7 @@ impl Profile {
     pub fn csv(&self) -> String {
         let stages: Vec<String> = self.pass_ms.iter().map(|ms| format!("{ms:.4}")).collect();
         format!(
-            "{},{},{},{},{},{},{:.4},{:.1},{:.1},{:.1},{:.4},{:.2}",
+            "{},{},{},{},{},{},{:.4},{:.1},{:.1},{:.1},{:.4},{:.2},{}",
             self.scene,
             self.view,
             self.method,
@@ -88,7 +99,8 @@ impl Profile {
             self.ceiling_mutations_per_s(),
             self.mutations_per_s,
             self.ceiling_fraction(),
-            self.device_mib
+            self.device_mib,
+            self.threads
         )
     }
 }
@@ -98,10 +110,13 @@ pub fn csv_header() -> String {
     let stages: Vec<String> = Stage::ITERATION.iter().map(|s| format!("{}_ms", s.name())).collect();
     format!(
         "scene,view,method,candidates,clock,{},rays_per_candidate,bare_rays_per_s,ceiling_mutations_per_s,\
-         mutations_per_s,ceiling_fraction,device_mib",
+         mutations_per_s,ceiling_fraction,device_mib,threads",
         stages.join(",")
     )
 }
+
+/// What a profile is of: scene label, view and method.
+pub type Profiled<'a> = (&'a str, u32, &'a str);
 
 /// Profiles `method`'s render of `scene` (named `label`, view `view`) on `backend` from
 /// `params` (the next iteration's), whose equal-time run measured `mutations_per_s`: times
@@ -110,11 +125,11 @@ pub fn csv_header() -> String {
 pub fn profile(
     backend: &mut GpuBackend,
     scene: &SceneData,
-    (label, view, method): (&str, u32, &str),
+    what: Profiled,
     params: RenderParams,
     mutations_per_s: f64,
 ) -> Result<Profile, RenderError> {
-    let mut total = [0.0f64; 5];
+    let mut total = [0.0f64; Stage::COUNT];
     let mut clock = Clock::Wall;
     let mut last = params;
     for i in 0..TIMED_ITERATIONS {
@@ -127,22 +142,67 @@ pub fn profile(
     }
     let gpu = backend.gpu().clone();
     let c = last.candidates as usize;
-    let cand_u: Vec<f32> = gpu.read(&backend.buffers().cand_u, c * last.dims as usize)?;
-    let cand_depth: Vec<u32> = gpu.read(&backend.buffers().cand_depth, c)?;
+    let cand_u: Vec<f32> = gpu.read(&backend.buffers().iteration.cand_u, c * last.dims as usize)?;
+    let cand_depth: Vec<u32> = gpu.read(&backend.buffers().iteration.cand_depth, c)?;
     let log = log_candidates(scene, &last, &cand_u, &cand_depth);
     let replayed = replay(&gpu, scene, &log, REPLAYS)?;
-    Ok(Profile {
+    Ok(assemble(scene, what, (&last, clock, total), &[log], replayed.seconds, mutations_per_s, 0))
+}
+
+/// The same look inside an iteration on the CPU backend: each stage timed over all groups, the
+/// rays of every group's candidates logged and replayed bare on the backend's threads.
+pub fn profile_cpu(
+    backend: &mut CpuBackend,
+    scene: &SceneData,
+    what: Profiled,
+    params: RenderParams,
+    mutations_per_s: f64,
+) -> Profile {
+    let mut total = [0.0f64; Stage::COUNT];
+    let mut last = params;
+    for i in 0..TIMED_ITERATIONS {
+        last = RenderParams { iteration: params.iteration + i, ..params };
+        for (sum, s) in total.iter_mut().zip(backend.iterate_timed(&last)) {
+            *sum += s;
+        }
+    }
+    let logs: Vec<RayLog> = backend
+        .candidates(&last)
+        .into_iter()
+        .map(|(p, u, depth)| log_candidates(scene, &p, u, depth))
+        .collect();
+    let pool = backend.thread_pool().expect("the CPU backend has a pool");
+    let replayed = replay_on_host(pool, scene, &logs, REPLAYS);
+    let threads = backend.threads();
+    assemble(scene, what, (&last, Clock::Wall, total), &logs, replayed.seconds, mutations_per_s, threads)
+}
+
+/// A profile from the timed passes (params of the last timed iteration, clock, summed seconds)
+/// and the replayed ray logs.
+fn assemble(
+    scene: &SceneData,
+    (label, view, method): Profiled,
+    (last, clock, total): (&RenderParams, Clock, [f64; Stage::COUNT]),
+    logs: &[RayLog],
+    replay_seconds: f64,
+    mutations_per_s: f64,
+    threads: usize,
+) -> Profile {
+    let rays: u64 = logs.iter().map(|l| l.count).sum();
+    let candidates: u64 = logs.iter().map(|l| l.candidates as u64).sum();
+    Profile {
         scene: label.to_string(),
         view,
         method: method.to_string(),
         candidates: last.candidates,
         clock,
         pass_ms: total.map(|s| s * 1e3 / TIMED_ITERATIONS as f64),
-        rays_per_candidate: log.per_candidate(),
-        bare_rays_per_s: replayed.rays_per_s(&log),
+        rays_per_candidate: rays as f64 / candidates.max(1) as f64,
+        bare_rays_per_s: rays as f64 / replay_seconds,
         mutations_per_s,
-        device_mib: crate::render::gpu::device_bytes(scene, &last) as f64 / 1048576.0,
-    })
+        device_mib: crate::passes::buffers::device_bytes(scene, last) as f64 / 1048576.0,
+        threads,
+    }
 }
 
 /// Markdown tables of `profiles`, one per scene view: each pass's device time per iteration,
@@ -161,10 +221,10 @@ pub fn tables(profiles: &[Profile]) -> String {
         let names: Vec<&str> = Stage::ITERATION.iter().map(|s| s.name()).collect();
         let _ = writeln!(
             out,
-            "### Inside an iteration: {scene} v{view} (device ms per iteration, {clock} clock)\n\n\
+            "### Inside an iteration: {scene} v{view} (ms per iteration, {clock} clock)\n\n\
              | method | candidates | {} | total | trace+connect ns/candidate \
-             | rays/candidate | bare M rays/s | ceiling M mut/s | measured M mut/s | of ceiling | device MiB |\n\
-             |---|---|{}---|---|---|---|---|---|---|---|",
+             | rays/candidate | bare M rays/s | per thread | ceiling M mut/s | measured M mut/s | of ceiling | device MiB |\n\
+             |---|---|{}---|---|---|---|---|---|---|---|---|",
             names.join(" | "),
             "---|".repeat(names.len())
         );
@@ -172,7 +232,7 @@ pub fn tables(profiles: &[Profile]) -> String {
             let stages: Vec<String> = p.pass_ms.iter().map(|ms| format!("{ms:.2}")).collect();
             let _ = writeln!(
                 out,
-                "| {} | {} | {} | {:.2} | {:.1} | {:.2} | {:.1} | {:.2} | {:.2} | {:.0} % | {:.1} |",
+                "| {} | {} | {} | {:.2} | {:.1} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {:.0} % | {:.1} |",
                 p.method,
                 p.candidates,
                 stages.join(" | "),
@@ -180,6 +240,11 @@ pub fn tables(profiles: &[Profile]) -> String {
                 p.trace_connect_ns(),
                 p.rays_per_candidate,
                 p.bare_rays_per_s / 1e6,
+                if p.threads > 0 {
+                    format!("{:.2}", p.bare_rays_per_s_per_thread() / 1e6)
+                } else {
+                    "–".into()
+                },
                 p.ceiling_mutations_per_s() / 1e6,
                 p.mutations_per_s / 1e6,
                 100.0 * p.ceiling_fraction(),

@@ -3,6 +3,14 @@
 
 use std::borrow::Cow;
 
+mod adapters;
+mod cache;
+mod spirv;
+
+pub use adapters::{adapters, choose_adapter, is_real_gpu, provide_runtime_dir};
+use cache::DiskCache;
+pub use spirv::{spirv_entry_points, spirv_interfaces, EntryInterface};
+
 /// The kernels compiled by `build.rs` with rust-gpu: one module, every `<pass>_cs` entry point.
 pub const KERNELS_SPV: &[u8] = include_bytes!(env!("SMLT_KERNELS_SPV"));
 
@@ -64,6 +72,9 @@ pub enum GpuError {
     /// A buffer could not be read back.
     #[error("reading a buffer back from the device failed: {0}")]
     Readback(String),
+    /// Waiting for submitted work failed (the device was lost, or timed out).
+    #[error("waiting for the device to finish its work failed: {0}")]
+    Wait(String),
 }
 
 /// How the SPIR-V module reached the driver.
@@ -102,137 +113,6 @@ pub struct Gpu {
 
 type Pipelines =
     std::collections::HashMap<(String, Vec<bool>), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>;
-
-/// A wgpu `PipelineCache` and the file it is loaded from and saved to: the driver's compiled
-/// kernels, keyed by adapter (vendor, device) and by the kernels module's hash.
-struct DiskCache {
-    cache: wgpu::PipelineCache,
-    path: std::path::PathBuf,
-}
-
-impl DiskCache {
-    /// The cache directory: `$SMLT_CACHE_DIR`, else `$XDG_CACHE_HOME/smlt`, else `~/.cache/smlt`.
-    fn directory() -> Option<std::path::PathBuf> {
-        if let Some(d) = std::env::var_os("SMLT_CACHE_DIR") {
-            return Some(d.into());
-        }
-        if let Some(d) = std::env::var_os("XDG_CACHE_HOME").filter(|d| !d.is_empty()) {
-            return Some(std::path::PathBuf::from(d).join("smlt"));
-        }
-        std::env::var_os("HOME").map(|h| std::path::PathBuf::from(h).join(".cache").join("smlt"))
-    }
-
-    fn open(device: &wgpu::Device, info: &wgpu::AdapterInfo) -> Option<Self> {
-        let key = wgpu::util::pipeline_cache_key(info)?;
-        let module = crate::reference::content_hash(KERNELS_SPV);
-        let path = Self::directory()?.join(format!("{key}_{module}.bin"));
-        let data = std::fs::read(&path).ok();
-        // SAFETY: the data is what `get_data` returned for this adapter key and module (or
-        // absent); wgpu and the driver validate its header and fall back to an empty cache.
-        let cache = unsafe {
-            device.create_pipeline_cache(&wgpu::PipelineCacheDescriptor {
-                label: Some("smlt kernels"),
-                data: data.as_deref(),
-                fallback: true,
-            })
-        };
-        Some(Self { cache, path })
-    }
-
-    /// Writes the cache's data to disk (to a temporary file renamed into place); a failure
-    /// only costs the next run its compile time, so it is ignored.
-    fn save(&self) {
-        let Some(data) = self.cache.get_data() else { return };
-        if std::fs::read(&self.path).ok().as_deref() == Some(&data[..]) {
-            return;
-        }
-        if let Some(dir) = self.path.parent() {
-            let _ = std::fs::create_dir_all(dir);
-        }
-        let tmp = self.path.with_extension(format!("{}.tmp", std::process::id()));
-        if std::fs::write(&tmp, &data).is_ok() {
-            let _ = std::fs::rename(&tmp, &self.path);
-        }
-    }
-}
-
-/// The Vulkan adapters of this machine, in enumeration order (what `--adapter INDEX` counts).
-pub fn adapters() -> Vec<wgpu::Adapter> {
-    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-    desc.backends = wgpu::Backends::VULKAN;
-    let instance = wgpu::Instance::new(desc);
-    pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN))
-}
-
-/// Whether an adapter is a real GPU (discrete or integrated), not a CPU driver like lavapipe.
-pub fn is_real_gpu(info: &wgpu::AdapterInfo) -> bool {
-    matches!(info.device_type, wgpu::DeviceType::DiscreteGpu | wgpu::DeviceType::IntegratedGpu)
-}
-
-/// Picks an adapter: the one at index `wanted`, else the first whose name contains `wanted`
-/// (case-insensitive), else — with no `wanted` — the best by type (discrete, integrated,
-/// virtual, CPU).
-pub fn choose_adapter(adapters: Vec<wgpu::Adapter>, wanted: Option<&str>) -> Result<wgpu::Adapter, GpuError> {
-    let Some(wanted) = wanted else {
-        return adapters
-            .into_iter()
-            .min_by_key(|a| rank(a.get_info().device_type))
-            .ok_or(GpuError::NoAdapter);
-    };
-    let available = adapters
-        .iter()
-        .enumerate()
-        .map(|(i, a)| format!("{i}: {}", a.get_info().name))
-        .collect::<Vec<_>>()
-        .join(", ");
-    let by_index = wanted.parse::<usize>().ok().filter(|&i| i < adapters.len());
-    let lower = wanted.to_lowercase();
-    let found = match by_index {
-        Some(i) => Some(i),
-        None => adapters.iter().position(|a| a.get_info().name.to_lowercase().contains(&lower)),
-    };
-    match found {
-        Some(i) => Ok(adapters.into_iter().nth(i).expect("index in range")),
-        None if adapters.is_empty() => Err(GpuError::NoAdapter),
-        None => Err(GpuError::NoSuchAdapter {
-            wanted: wanted.to_string(),
-            available: if available.is_empty() { "none".into() } else { available },
-        }),
-    }
-}
-
-/// The names of a SPIR-V module's entry points (from its `OpEntryPoint` instructions).
-pub fn spirv_entry_points(words: &[u32]) -> Vec<String> {
-    const OP_ENTRY_POINT: u32 = 15;
-    let mut names = Vec::new();
-    let mut i = 5; // after the header
-    while i < words.len() {
-        let count = (words[i] >> 16) as usize;
-        if count == 0 {
-            break;
-        }
-        if words[i] & 0xffff == OP_ENTRY_POINT && i + 3 < words.len() {
-            // Operands: execution model, function id, then the nul-terminated name.
-            let bytes: Vec<u8> =
-                words[i + 3..(i + count).min(words.len())].iter().flat_map(|w| w.to_le_bytes()).collect();
-            let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
-            names.push(String::from_utf8_lossy(&bytes[..end]).into_owned());
-        }
-        i += count;
-    }
-    names
-}
-
-/// Preference among adapter types: a real GPU first, lavapipe (a CPU device) last.
-fn rank(device_type: wgpu::DeviceType) -> u32 {
-    match device_type {
-        wgpu::DeviceType::DiscreteGpu => 0,
-        wgpu::DeviceType::IntegratedGpu => 1,
-        wgpu::DeviceType::VirtualGpu => 2,
-        wgpu::DeviceType::Cpu => 3,
-        wgpu::DeviceType::Other => 4,
-    }
-}
 
 impl Gpu {
     /// Opens the best Vulkan adapter (discrete, integrated, virtual, then CPU such as lavapipe)
@@ -397,9 +277,12 @@ impl Gpu {
         }
     }
 
-    /// Where the pipeline cache lives, if the adapter supports one.
-    pub fn pipeline_cache_path(&self) -> Option<&std::path::Path> {
-        self.disk_cache.as_ref().map(|c| c.path.as_path())
+    /// Waits until the device has finished everything submitted.
+    pub fn wait(&self) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuError::Wait(e.to_string()))
     }
 
     /// A storage buffer holding `data` (at least 4 bytes, as Vulkan wants no empty buffers).
@@ -472,9 +355,7 @@ impl Gpu {
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        self.wait()?;
         rx.recv()
             .map_err(|e| GpuError::Readback(e.to_string()))?
             .map_err(|e| GpuError::Readback(e.to_string()))?;
@@ -483,21 +364,5 @@ impl Gpu {
         drop(view);
         staging.unmap();
         Ok(out)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The module built by rust-gpu holds exactly the entry points `kernels` declares, under
-    /// their plain names (rust-gpu would otherwise qualify them with the module path).
-    #[test]
-    fn module_entry_points_are_the_declared_ones() {
-        let mut found = spirv_entry_points(&wgpu::util::make_spirv_raw(KERNELS_SPV));
-        found.sort();
-        let mut declared: Vec<String> = kernels::ENTRY_POINTS.iter().map(|s| s.to_string()).collect();
-        declared.sort();
-        assert_eq!(found, declared);
     }
 }

@@ -1,0 +1,311 @@
+//! `smlt bench`: the seed's evaluation on our scenes — equal-time runs of each method per
+//! scene/view in one process on one device, interleaved (every method is advanced in turns to
+//! the same render times 1, 2, 4, … s), each compared with the scene's reference image.
+//!
+//! Writes to the output folder: `results.csv` (one row per method and time: scene, view,
+//! method, seconds, candidates, steps, mutations/s, steps/s, RMSE, relMSE, PSNR, the
+//! candidates rejected as NaN/Inf, b and its relative standard error — error along time, so convergence is a curve; one scene,
+//! one method and a long time is the soak run), `tables.md` (the seed's Table 3: million mutations/s, and
+//! Table 4: PSNR after the full time), the plots of `plots` (`speedup.png`, the seed's Fig. 7,
+//! and `error_<scene>_v<view>.png`, RMSE against time on log–log axes), the final image of each
+//! method and error heat maps of naive and the best method (`metrics::heat_map`), and the cached
+//! references; and `passes.csv` and its tables (`profile`: each pass's time per
+//! iteration, rays per candidate and the bare ray throughput, on a device or on the CPU
+//! backend's threads).
+
+pub mod interval;
+pub mod metrics;
+pub mod plots;
+pub mod profile;
+pub mod raycast;
+pub mod results;
+pub mod tables;
+
+use std::path::{Path, PathBuf};
+
+use shared::mmlt::RenderParams;
+
+use crate::gpu::Gpu;
+use crate::reference::{cached_or_render, ReferenceSettings};
+use crate::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Settings};
+use crate::scene::SceneData;
+use metrics::{errors, heat_map};
+use profile::{profile, profile_cpu, Profile};
+use results::{final_row, Row, CSV_HEADER};
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct BenchSettings {
+    /// (scene name, view): generated scenes by name, or glTF paths.
+    pub scenes: Vec<(String, u32)>,
+    /// Methods to compare.
+    pub methods: Vec<Method>,
+    /// Render seconds per method.
+    pub seconds: f64,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Maximum bounces.
+    pub max_depth: u32,
+    /// Seed.
+    pub seed: u32,
+    /// Samples per pixel of the references.
+    pub reference_spp: u32,
+    /// Candidates per iteration (None: by device, as `smlt render`).
+    pub candidates: Option<u32>,
+    /// Tessellation of generated scenes.
+    pub tessellation: u32,
+    /// Threads of the CPU backend.
+    pub threads: usize,
+    /// Independent runs of every method (seeds `seed`, `seed + 1`, …).
+    pub repeats: u32,
+    /// A reference image to use instead of rendering one (one scene view only).
+    pub reference: Option<PathBuf>,
+    /// Output folder.
+    pub out: PathBuf,
+}
+
+/// The render times at which every method is measured: 1, 2, 4, … below `seconds`, and `seconds`.
+pub fn time_grid(seconds: f64) -> Vec<f64> {
+    let mut grid = Vec::new();
+    let mut t = 1.0;
+    while t < seconds {
+        grid.push(t);
+        t *= 2.0;
+    }
+    grid.push(seconds);
+    grid
+}
+
+/// Runs the bench; `log` gets one line per measurement.
+pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> anyhow::Result<Vec<Row>> {
+    std::fs::create_dir_all(&b.out)?;
+    let mut rows = Vec::new();
+    let mut profiles: Vec<Profile> = Vec::new();
+    let mut noises: Vec<(String, u32, Option<f64>)> = Vec::new();
+    for (name, view) in &b.scenes {
+        let (label, mut scene, scene_hash) = crate::scenes::open(Some(name), b.tessellation)?;
+        scene.select_view(*view)?;
+        let (reference, noise) = match &b.reference {
+            Some(path) => (given_reference(b, path)?, None),
+            None => reference_image(b, (&label, *view), &scene, scene_hash, gpu)?,
+        };
+        noises.push((label.clone(), *view, noise));
+        let repeats = b.repeats.max(1);
+        for repeat in 0..repeats {
+            let first = rows.len();
+            let run = EqualTime { scene: &scene, label: &label, view: *view, repeat, reference: &reference };
+            let last = equal_time(b, &run, gpu, &mut rows, &mut profiles, &mut log)?;
+            if repeat + 1 == repeats {
+                write_finals(b, (&label, *view), &rows[first..], &last, &reference)?;
+            }
+        }
+    }
+    write_results(b, &rows, &noises, &profiles)?;
+    Ok(rows)
+}
+
+/// The scene view's reference image, cached with its settings in the output folder, and its
+/// own noise. A CPU Vulkan device (lavapipe) is slower than the host's own threads for it, so
+/// then the host renders it.
+fn reference_image(
+    b: &BenchSettings,
+    (label, view): (&str, u32),
+    scene: &SceneData,
+    scene_hash: String,
+    gpu: Option<&Gpu>,
+) -> anyhow::Result<(Vec<f32>, Option<f64>)> {
+    let path = b.out.join(format!("reference_{label}_v{view}.exr"));
+    let rs = ReferenceSettings {
+        scene: format!("{label} view {view}"),
+        scene_hash,
+        width: b.width,
+        height: b.height,
+        max_depth: b.max_depth,
+        spp: b.reference_spp,
+        seed: b.seed.wrapping_add(1000),
+    };
+    // On a CPU Vulkan driver the CPU backend renders the reference faster.
+    let device = gpu.filter(|g| g.info.device_type != wgpu::DeviceType::Cpu);
+    let (sidecar, _) = cached_or_render(&path, scene, &rs, device, 16, |_| {})?;
+    let noise = sidecar.noise_rmse;
+    let (_, _, reference) = crate::output::read_exr(&path)?;
+    Ok((reference, noise))
+}
+
+/// An external reference image (`--reference`), which must have the bench's size.
+fn given_reference(b: &BenchSettings, path: &Path) -> anyhow::Result<Vec<f32>> {
+    if b.scenes.len() != 1 {
+        anyhow::bail!(
+            "--reference {} serves one scene view, but {} are benched",
+            path.display(),
+            b.scenes.len()
+        );
+    }
+    let (w, h, rgb) = crate::output::read_exr(path)?;
+    if (w, h) != (b.width, b.height) {
+        anyhow::bail!(
+            "--reference {} is {w}×{h}, the bench renders {}×{}",
+            path.display(),
+            b.width,
+            b.height
+        );
+    }
+    Ok(rgb)
+}
+
+/// One repeat of the equal-time runs on one scene view.
+struct EqualTime<'a> {
+    scene: &'a SceneData,
+    label: &'a str,
+    view: u32,
+    repeat: u32,
+    reference: &'a [f32],
+}
+
+/// Renders every method on one scene view with the repeat's seed, advancing them in turns to
+/// the same render times, appends a row per method and time to `rows`, then (on a device, in
+/// the first repeat) profiles each method's passes into `profiles`. Returns each method's
+/// final image.
+fn equal_time(
+    b: &BenchSettings,
+    run: &EqualTime,
+    gpu: Option<&Gpu>,
+    rows: &mut Vec<Row>,
+    profiles: &mut Vec<Profile>,
+    log: &mut impl FnMut(&str),
+) -> anyhow::Result<Vec<Vec<f32>>> {
+    let EqualTime { scene, label, view, repeat, reference } = *run;
+    let candidates = b.candidates.unwrap_or(render::default_candidates(gpu));
+    let settings: Vec<Settings> = b
+        .methods
+        .iter()
+        .map(|m| Settings {
+            width: b.width,
+            height: b.height,
+            max_depth: b.max_depth,
+            seed: b.seed.wrapping_add(repeat),
+            method: *m,
+            budget: Budget::Seconds(b.seconds),
+            candidates,
+            bootstrap_samples: render::DEFAULT_BOOTSTRAP,
+            mutation: Default::default(),
+            shard: render::Shard::WHOLE,
+        })
+        .collect();
+    // One backend per method, all on the same device: the device's kept as such, for the
+    // per-pass profile after the equal-time runs.
+    let mut gpu_backends: Vec<GpuBackend> = Vec::new();
+    let mut cpu_backends: Vec<CpuBackend> = Vec::new();
+    for s in &settings {
+        let params = render::base_params(scene, s);
+        match gpu {
+            Some(g) => gpu_backends.push(GpuBackend::new(g.clone(), scene, &params)?),
+            None => cpu_backends.push(CpuBackend::new(scene, &params, b.threads)?),
+        }
+    }
+    let mut renderers: Vec<Renderer> = Vec::new();
+    let backends = gpu_backends
+        .iter_mut()
+        .map(|g| g as &mut dyn Backend)
+        .chain(cpu_backends.iter_mut().map(|c| c as &mut dyn Backend));
+    for (s, backend) in settings.iter().zip(backends) {
+        renderers.push(Renderer::start(scene, s, backend, &mut |_: f64| {})?);
+    }
+    let mut last: Vec<Vec<f32>> = vec![Vec::new(); renderers.len()];
+    for t in time_grid(b.seconds) {
+        for (i, r) in renderers.iter_mut().enumerate() {
+            while r.stats().render_seconds < t {
+                r.iterate()?;
+            }
+            let image = r.snapshot()?;
+            let st = &image.stats;
+            let row = Row {
+                scene: label.to_string(),
+                view,
+                method: b.methods[i].to_string(),
+                repeat,
+                seconds: st.render_seconds,
+                candidates: st.candidates,
+                steps: st.steps,
+                mutations_per_s: st.candidates as f64 / st.render_seconds,
+                steps_per_s: st.steps / st.render_seconds,
+                errors: errors(&image.rgb, reference),
+                nan_inf: st.invalid,
+                b: st.b,
+                b_rel_se: st.b_relative_standard_error(),
+            };
+            log(&row.csv());
+            rows.push(row);
+            last[i] = image.rgb;
+        }
+    }
+    // Inside an iteration: per-pass device times and the ray-casting ceiling, after the
+    // equal-time runs so that they do not disturb them.
+    let next: Vec<RenderParams> = renderers.iter().map(Renderer::next_params).collect();
+    drop(renderers);
+    if repeat == 0 {
+        for (i, method) in b.methods.iter().enumerate() {
+            let method = method.to_string();
+            let measured = final_row(rows, label, view, &method).map_or(0.0, |r| r.mutations_per_s);
+            let what = (label, view, method.as_str());
+            let p = match gpu_backends.get_mut(i) {
+                Some(device) => profile(device, scene, what, next[i], measured)?,
+                None => profile_cpu(&mut cpu_backends[i], scene, what, next[i], measured),
+            };
+            log(&format!("profile {}", p.csv()));
+            profiles.push(p);
+        }
+    }
+    Ok(last)
+}
+
+/// Each method's final image, and the heat maps of naive and of the best method on one scale.
+fn write_finals(
+    b: &BenchSettings,
+    (label, view): (&str, u32),
+    rows: &[Row],
+    last: &[Vec<f32>],
+    reference: &[f32],
+) -> anyhow::Result<()> {
+    // `rows` are this repeat's: the last of each method is its final measurement.
+    let finals: Vec<&Row> = rows.iter().rev().take(b.methods.len()).collect();
+    let best = finals.iter().min_by(|a, b| a.errors.rmse.total_cmp(&b.errors.rmse)).map(|r| r.method.clone());
+    let scale = 2.0 * finals.iter().map(|r| r.errors.rmse).fold(0.0, f64::max).max(1e-6);
+    for (i, m) in b.methods.iter().enumerate() {
+        let stem = format!("{label}_v{view}_{m}");
+        crate::output::write_images(&b.out.join(format!("{stem}.exr")), b.width, b.height, &last[i])?;
+        if *m == Method::Tree(1) || Some(m.to_string()) == best {
+            heat_map(&last[i], reference, b.width, b.height, scale)
+                .save(b.out.join(format!("heat_{stem}.png")))?;
+        }
+    }
+    Ok(())
+}
+
+/// `results.csv`, `passes.csv`, `tables.md` and the plots.
+fn write_results(
+    b: &BenchSettings,
+    rows: &[Row],
+    noises: &[(String, u32, Option<f64>)],
+    profiles: &[Profile],
+) -> anyhow::Result<()> {
+    let csv = |header: String, lines: Vec<String>| lines.iter().fold(header + "\n", |s, l| s + l + "\n");
+    std::fs::write(
+        b.out.join("results.csv"),
+        csv(CSV_HEADER.to_string(), rows.iter().map(Row::csv).collect()),
+    )?;
+    let methods: Vec<String> = b.methods.iter().map(Method::to_string).collect();
+    let mut tables = tables::tables(&methods, b.seconds, rows);
+    tables.push_str(&tables::reference_table(b, rows, noises));
+    if !profiles.is_empty() {
+        std::fs::write(
+            b.out.join("passes.csv"),
+            csv(profile::csv_header(), profiles.iter().map(Profile::csv).collect()),
+        )?;
+        tables.push_str(&profile::tables(profiles));
+    }
+    std::fs::write(b.out.join("tables.md"), tables)?;
+    plots::plot(rows, &b.out)
+}

@@ -1,0 +1,98 @@
+//! The bench's Markdown tables: the seed's Table 3 and Table 4 with RMSE, relMSE and
+//! efficiency (means over the repeats with 95 % intervals, the best marked only where its
+//! interval overlaps no other), and the references' own noise.
+
+use std::fmt::Write as _;
+
+use crate::bench::interval::{clear_best, Interval};
+use crate::bench::results::{final_interval, views, Row};
+use crate::bench::BenchSettings;
+
+/// The seed's Table 3 (million mutations/s) and Table 4 (PSNR after the full time), with RMSE
+/// and relMSE, as Markdown: methods down, scene views across, each cell the mean over the
+/// repeats of the final measurements with its 95 % interval; a cell is bold where that method
+/// is best and its interval overlaps no other method's.
+pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
+    let columns = views(rows);
+    let repeats = rows.iter().map(|r| r.repeat + 1).max().unwrap_or(1);
+    let mut out = format!(
+        "Every cell: the mean over {repeats} independent run(s){}; **bold**: best, with an interval that overlaps no other method's.\n\n",
+        if repeats > 1 { " ± the half-width of its 95 % confidence interval (Student t)" } else { "" }
+    );
+    let header = columns.iter().map(|(s, v)| format!(" {s} v{v} |")).collect::<String>();
+    let rule = "---|".repeat(columns.len());
+    type Value = fn(&Row) -> f64;
+    let tables: [(String, Value, usize, bool); 6] = [
+        (
+            "Million mutations (candidates; a peer's paths) per second".into(),
+            |r| r.mutations_per_s / 1e6,
+            3,
+            true,
+        ),
+        ("Speedup of mutations/s over naive (ratio of the means)".into(), |r| r.mutations_per_s, 2, true),
+        (format!("PSNR (dB, peak 1 on clamped values) after {seconds} s"), |r| r.errors.psnr, 2, true),
+        (format!("RMSE after {seconds} s"), |r| r.errors.rmse, 4, false),
+        (format!("relMSE after {seconds} s"), |r| r.errors.relmse, 4, false),
+        (
+            format!("Efficiency 1 / (relMSE × seconds) after {seconds} s"),
+            |r| 1.0 / (r.errors.relmse * r.seconds),
+            3,
+            true,
+        ),
+    ];
+    for (t, (title, value, decimals, higher)) in tables.iter().enumerate() {
+        let _ = writeln!(out, "### {title}\n\n| method |{header}\n|---|{rule}");
+        let cells: Vec<Vec<Option<Interval>>> = methods
+            .iter()
+            .map(|m| columns.iter().map(|(s, v)| final_interval(rows, s, *v, m, value)).collect())
+            .collect();
+        let best: Vec<Option<usize>> = (0..columns.len())
+            .map(|c| {
+                let column: Vec<Interval> = cells.iter().filter_map(|m| m[c]).collect();
+                if t == 1 || column.len() != cells.len() {
+                    return None;
+                }
+                clear_best(&column, *higher)
+            })
+            .collect();
+        for (i, m) in methods.iter().enumerate() {
+            let text: String = (0..columns.len())
+                .map(|c| match (t, cells[i][c]) {
+                    (_, None) => " — |".to_string(),
+                    (1, Some(x)) => {
+                        let naive = final_interval(rows, &columns[c].0, columns[c].1, "naive", value);
+                        naive.map_or(" — |".to_string(), |n| format!(" {:.2}× |", x.mean / n.mean))
+                    }
+                    (_, Some(x)) if best[c] == Some(i) => format!(" **{}** |", x.show(*decimals)),
+                    (_, Some(x)) => format!(" {} |", x.show(*decimals)),
+                })
+                .collect();
+            let _ = writeln!(out, "| {m} |{text}");
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// estimated reference RMSE and the smallest final RMSE of any method.
+pub fn reference_table(b: &BenchSettings, rows: &[Row], noises: &[(String, u32, Option<f64>)]) -> String {
+    let mut out = format!(
+        "### References ({} spp; noise = estimated RMSE of the reference itself)\n\n\
+         | scene view | reference noise | smallest method RMSE after {} s | ratio |\n|---|---|---|---|\n",
+        b.reference_spp, b.seconds
+    );
+    for (scene, view, noise) in noises {
+        let best = b
+            .methods
+            .iter()
+            .filter_map(|m| final_interval(rows, scene, *view, &m.to_string(), |r| r.errors.rmse))
+            .map(|i| i.mean)
+            .fold(f64::INFINITY, f64::min);
+        let _ = match noise {
+            Some(n) => writeln!(out, "| {scene} v{view} | {n:.4} | {best:.4} | {:.2} |", n / best),
+            None => writeln!(out, "| {scene} v{view} | — | {best:.4} | — |"),
+        };
+    }
+    out.push('\n');
+    out
+}

@@ -1,0 +1,176 @@
+//! What several subcommands share: where the kernels run ([`DeviceArgs`], and the policy that
+//! turns them into a [`Device`]), which scene and view ([`SceneArgs`]), the path settings
+//! ([`PathArgs`]), and the parsers of bounded numbers whose errors name the flag's value.
+
+use std::path::PathBuf;
+
+use clap::ValueEnum;
+
+use crate::gpu::Gpu;
+use crate::render;
+use crate::scene::SceneData;
+
+/// Where the kernels run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DeviceKind {
+    /// A real GPU (discrete or integrated Vulkan adapter) if there is one, else the CPU
+    /// backend on every core.
+    Auto,
+    /// The best Vulkan adapter (a GPU, or lavapipe, Mesa's CPU driver).
+    #[value(alias = "gpu")]
+    Vulkan,
+    /// The same kernels on the host CPU's threads.
+    Cpu,
+}
+
+/// Where the kernels run (render, reference, bench and selftest).
+#[derive(clap::Args, Clone)]
+pub struct DeviceArgs {
+    /// Where the kernels run: auto (a real GPU if there is one, otherwise the CPU backend on
+    /// every core), vulkan (the best Vulkan adapter, lavapipe included; `gpu` is an alias) or
+    /// cpu.
+    #[arg(long, value_enum, default_value_t = DeviceKind::Auto)]
+    pub device: DeviceKind,
+    /// The Vulkan adapter, by index or part of its name (`smlt devices` lists them); implies a
+    /// Vulkan device.
+    #[arg(long)]
+    pub adapter: Option<String>,
+    /// Threads of the CPU backend (default: every core).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
+    pub threads: Option<u16>,
+}
+
+/// The device chosen for a command, and why.
+pub struct Device {
+    /// The Vulkan device, or None for the CPU backend.
+    pub gpu: Option<Gpu>,
+    /// Threads of the CPU backend (and of the host-side bootstrap).
+    pub threads: usize,
+    /// Why this device.
+    pub why: String,
+}
+
+impl Device {
+    /// The device in words.
+    pub fn describe(&self) -> String {
+        match &self.gpu {
+            Some(g) => g.describe(),
+            None => format!("CPU ({} thread{})", self.threads, if self.threads == 1 { "" } else { "s" }),
+        }
+    }
+}
+
+impl DeviceArgs {
+    /// Opens the device these flags ask for (`--device auto` prefers a real GPU, then every
+    /// CPU core).
+    pub fn open(&self) -> anyhow::Result<Device> {
+        let threads = self.threads.map_or_else(render::cpu::default_threads, |t| t as usize);
+        if self.adapter.is_some() && self.device == DeviceKind::Cpu {
+            anyhow::bail!(
+                "--adapter names a Vulkan adapter, but --device cpu runs on the CPU: drop one of them"
+            );
+        }
+        let kind = if self.adapter.is_some() { DeviceKind::Vulkan } else { self.device };
+        match kind {
+            DeviceKind::Vulkan => {
+                let gpu = Gpu::open(self.adapter.as_deref())?;
+                let why = match &self.adapter {
+                    Some(a) => format!("--adapter {a}"),
+                    None => "--device vulkan: the best Vulkan adapter".into(),
+                };
+                Ok(Device { gpu: Some(gpu), threads, why })
+            }
+            DeviceKind::Cpu => Ok(Device { gpu: None, threads, why: "--device cpu".into() }),
+            DeviceKind::Auto => {
+                let adapters = crate::gpu::adapters();
+                if adapters.iter().any(|a| crate::gpu::is_real_gpu(&a.get_info())) {
+                    let gpu = Gpu::open(None)?;
+                    return Ok(Device {
+                        gpu: Some(gpu),
+                        threads,
+                        why: "--device auto: a GPU is present".into(),
+                    });
+                }
+                let seen: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+                let why = if seen.is_empty() {
+                    "--device auto: no Vulkan adapter, so the CPU backend on every core".to_string()
+                } else {
+                    format!(
+                        "--device auto: no GPU among the Vulkan adapters ({}, a CPU driver), so the CPU \
+                         backend on every core, which is faster",
+                        seen.join(", ")
+                    )
+                };
+                Ok(Device { gpu: None, threads, why })
+            }
+        }
+    }
+}
+
+/// The scene and its camera (render and reference).
+#[derive(clap::Args, Clone)]
+pub struct SceneArgs {
+    /// glTF scene (.gltf or .glb) or a generated scene's name (cornell, atrium, nave, sunblind,
+    /// slit); the embedded Cornell box when absent.
+    pub scene: Option<PathBuf>,
+    /// Which of the scene's cameras to use (1 = the first).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub view: u32,
+}
+
+impl SceneArgs {
+    /// The scene at its view and the hash of its files; prints the loader's warnings.
+    pub fn load(&self) -> anyhow::Result<(SceneData, String)> {
+        let name = self.scene.as_ref().map(|p| p.to_string_lossy().into_owned());
+        let (_, mut scene, hash) = crate::scenes::open(name.as_deref(), 1)?;
+        scene.select_view(self.view)?;
+        for w in &scene.warnings {
+            eprintln!("warning: {}: {w}", scene.name);
+        }
+        Ok((scene, hash))
+    }
+}
+
+/// What every estimator of a scene's image shares (render, reference and bench).
+#[derive(clap::Args, Clone)]
+pub struct PathArgs {
+    /// Maximum bounces, as pbrt's maxdepth (1 = direct light only).
+    #[arg(long, default_value_t = render::DEFAULT_MAX_DEPTH, value_parser = clap::value_parser!(u32).range(0..=64))]
+    pub max_depth: u32,
+    /// Seed of every random number.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+}
+
+/// The image height: `height` if given, else the width over the camera's aspect ratio, else
+/// the width.
+pub fn height_or_aspect(height: Option<u32>, width: u32, scene: &SceneData) -> u32 {
+    height.unwrap_or_else(|| match scene.camera.aspect {
+        Some(aspect) => ((width as f32 / aspect).round() as u32).clamp(1, 16384),
+        None => width,
+    })
+}
+
+/// An exposure in stops.
+pub fn exposure(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v.abs() <= 64.0 => Ok(v),
+        _ => Err(format!("'{s}' is not an exposure in stops (a number from -64 to 64)")),
+    }
+}
+
+/// A finite number above 0.
+pub fn positive_f64(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("'{s}' is not a positive number")),
+    }
+}
+
+/// A number in [0, 1].
+pub fn unit_f32(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("'{s}' is not a number in [0, 1]")),
+    }
+}

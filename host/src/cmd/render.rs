@@ -1,0 +1,280 @@
+//! `smlt render`: one render of a scene view to an EXR (and a tone-mapped PNG), or to a part
+//! file with `--shard`, with a progress bar, Ctrl-C and checkpoints, and the closing summary.
+
+use std::cell::Cell;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use shared::mutation::MutationParams;
+
+use super::args::{exposure, height_or_aspect, positive_f64, unit_f32, DeviceArgs, PathArgs, SceneArgs};
+use crate::output::Exposure;
+use crate::render::{self, Budget, Method, Settings, Shard};
+
+/// `smlt render`'s flags.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    #[allow(missing_docs)] // flattened: documented on SceneArgs
+    pub scene: SceneArgs,
+    /// naive, s<d> (speculative tree of depth d = 1..8; s1 is naive), or rc<l> (reject chain of
+    /// l = 2..64 proposals).
+    #[arg(long, default_value = "naive", value_parser = |s: &str| s.parse::<Method>())]
+    pub method: Method,
+    /// Stop after this many seconds of iterations (after the bootstrap).
+    #[arg(long, value_parser = positive_f64, conflicts_with = "mutations_per_pixel", allow_negative_numbers = true)]
+    pub time: Option<f64>,
+    /// Stop after this many candidate paths per pixel (default 64 when --time is absent).
+    #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
+    pub mutations_per_pixel: Option<f64>,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = render::DEFAULT_WIDTH, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: u32,
+    /// Image height in pixels (default: the width divided by the glTF camera's aspect ratio, or
+    /// the width when the camera has none).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    #[command(flatten)]
+    #[allow(missing_docs)] // flattened: documented on PathArgs
+    pub path: PathArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)] // flattened: documented on DeviceArgs
+    pub device: DeviceArgs,
+    /// Output EXR (a tone-mapped PNG is written beside it); with --shard, the part file
+    /// (default smlt.shard-K-of-N.exr).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Exposure of the PNG in stops (default: automatic, from the image's 95th luminance
+    /// percentile); the EXR is always linear radiance.
+    #[arg(long, value_parser = exposure, allow_negative_numbers = true)]
+    pub exposure: Option<f32>,
+    /// Render only part K of N of the chains, into a part file for `smlt merge`: the parts of
+    /// one render merge into the image the same command without --shard gives.
+    #[arg(long, value_parser = |s: &str| s.parse::<Shard>())]
+    pub shard: Option<Shard>,
+    /// Candidate paths traced per iteration, divided among chains (default: 262144 on a GPU,
+    /// 16384 on a CPU Vulkan device such as lavapipe, 4096 with --device cpu).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_777_216))]
+    pub candidates: Option<u32>,
+    /// Bootstrap samples for the normalisation and the chains' start states.
+    #[arg(long, default_value_t = render::DEFAULT_BOOTSTRAP, value_parser = clap::value_parser!(u32).range(1..=67_108_864))]
+    pub bootstrap: u32,
+    /// Probability of a large step.
+    #[arg(long, default_value_t = MutationParams::default().p_large, value_parser = unit_f32)]
+    pub p_large: f32,
+    /// Write the image so far every this many seconds (Ctrl-C always writes it once more).
+    #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
+    pub checkpoint: Option<f64>,
+}
+
+/// The command line's view of a render: the compilation spinner, progress bar, Ctrl-C,
+/// checkpoints.
+struct CliObserver<'a> {
+    bar: ProgressBar,
+    spinner: Option<ProgressBar>,
+    stop: Arc<AtomicBool>,
+    every: Option<f64>,
+    last: f64,
+    out: &'a Path,
+    exposure: Option<f32>,
+    checkpoints: Rc<Cell<u32>>,
+}
+
+impl render::Observer for CliObserver<'_> {
+    fn compiling(&mut self) {
+        let spinner = ProgressBar::new_spinner();
+        spinner.set_message("compiling kernels (first run only)");
+        spinner.enable_steady_tick(std::time::Duration::from_millis(120));
+        self.spinner = Some(spinner);
+    }
+
+    fn compiled(&mut self) {
+        if let Some(spinner) = self.spinner.take() {
+            spinner.finish_and_clear();
+        }
+    }
+
+    fn progress(&mut self, fraction: f64) {
+        self.bar.set_position((fraction * 1000.0) as u64);
+    }
+
+    fn stop_requested(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+
+    fn checkpoint_due(&mut self, elapsed: f64) -> bool {
+        match self.every {
+            Some(every) if elapsed - self.last >= every => {
+                self.last = elapsed;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    fn checkpoint(&mut self, image: &render::Rendered) {
+        let exposure = self.exposure.map_or(Exposure::Auto, Exposure::Ev);
+        match crate::output::write_images_exposed(self.out, image.width, image.height, &image.rgb, exposure) {
+            Ok(_) => self.checkpoints.set(self.checkpoints.get() + 1),
+            Err(e) => self.bar.println(format!("warning: checkpoint not written: {e}")),
+        }
+    }
+}
+
+/// Runs `smlt render`.
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let out = a.out.clone().unwrap_or_else(|| match a.shard {
+        Some(k) => PathBuf::from(format!("smlt.shard-{}-of-{}.exr", k.index, k.count)),
+        None => PathBuf::from("smlt.exr"),
+    });
+    crate::output::check_writable(&out)?;
+    let (scene, scene_hash) = a.scene.load()?;
+    let budget = match (a.time, a.mutations_per_pixel) {
+        (Some(t), _) => Budget::Seconds(t),
+        (None, Some(m)) => Budget::MutationsPerPixel(m),
+        (None, None) => Budget::MutationsPerPixel(render::DEFAULT_MUTATIONS_PER_PIXEL),
+    };
+    let device = a.device.open()?;
+    println!("device: {} — {}", device.describe(), device.why);
+    let settings = Settings {
+        width: a.width,
+        height: height_or_aspect(a.height, a.width, &scene),
+        max_depth: a.path.max_depth,
+        seed: a.path.seed,
+        method: a.method,
+        budget,
+        candidates: a.candidates.unwrap_or(render::default_candidates(device.gpu.as_ref())),
+        bootstrap_samples: a.bootstrap,
+        mutation: MutationParams { p_large: a.p_large, ..Default::default() },
+        shard: a.shard.unwrap_or(Shard::WHOLE),
+    };
+    if settings.shard.count > settings.chains() {
+        anyhow::bail!(
+            "--shard {}: the render has only {} chains to split; use at most {} shards or more --candidates",
+            settings.shard,
+            settings.chains(),
+            settings.chains()
+        );
+    }
+    let params = render::base_params(&scene, &settings);
+    let on_device = device.gpu.is_some();
+    let mut backend: Box<dyn render::Backend + '_> = match device.gpu {
+        Some(gpu) => Box::new(render::gpu::GpuBackend::new(gpu, &scene, &params)?),
+        None => Box::new(render::cpu::CpuBackend::new(&scene, &params, device.threads)?),
+    };
+    let buffers_mib = crate::passes::buffers::device_bytes(&scene, &params) as f64 / 1048576.0;
+    println!(
+        "rendering {} at {}×{} with {} ({} chains{}, {} candidates per iteration)",
+        scene.name,
+        settings.width,
+        settings.height,
+        settings.method,
+        params.chains,
+        match a.shard {
+            Some(k) => format!(" of {}: shard {k}", settings.chains()),
+            None => String::new(),
+        },
+        params.candidates
+    );
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed_precise} eta {eta}")
+            .expect("progress template"),
+    );
+    // Ctrl-C ends the render after the current iteration and writes the image so far; a second
+    // Ctrl-C exits at once.
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
+    let checkpoints = Rc::new(Cell::new(0));
+    let observer = CliObserver {
+        bar: bar.clone(),
+        spinner: None,
+        stop: stop.clone(),
+        every: if a.shard.is_some() { None } else { a.checkpoint },
+        last: 0.0,
+        out: &out,
+        exposure: a.exposure,
+        checkpoints: checkpoints.clone(),
+    };
+    let result = render::render(&scene, &settings, backend.as_mut(), observer)?;
+    bar.finish_and_clear();
+    let written = match a.shard {
+        Some(shard) => {
+            let identity = crate::part::Identity::new(&scene.name, &scene_hash, a.scene.view, &settings);
+            crate::part::write_part(&out, &identity, shard, &result, &backend.describe())?;
+            format!("part {shard}: {} (combine the parts with smlt merge)", out.display())
+        }
+        None => {
+            let ev = crate::output::write_images_exposed(
+                &out,
+                result.width,
+                result.height,
+                &result.rgb,
+                a.exposure.map_or(Exposure::Auto, Exposure::Ev),
+            )?;
+            format!(
+                "{} and {} (PNG at {ev:+.2} EV{})",
+                out.display(),
+                crate::output::png_path(&out).display(),
+                if a.exposure.is_none() { ", automatic" } else { "" }
+            )
+        }
+    };
+    print_summary(&result.stats, settings.mutation.p_large);
+    if on_device {
+        println!("device buffers       {buffers_mib:.1} MiB");
+    }
+    if checkpoints.get() > 0 {
+        println!("checkpoints          {}", checkpoints.get());
+    }
+    println!("wrote                {written}");
+    if stop.load(Ordering::SeqCst) {
+        anyhow::bail!("interrupted: the image so far was written to {}", out.display());
+    }
+    Ok(())
+}
+
+/// The closing summary of a render or a merge.
+pub fn print_summary(s: &render::Stats, p_large: f32) {
+    println!("chains               {}", s.chains);
+    println!("iterations           {}", s.iterations);
+    println!("candidates traced    {}", s.candidates);
+    println!("chain steps          {:.0}", s.steps);
+    if s.render_seconds > 0.0 {
+        println!(
+            "mutations/s          {:.3} M (candidates traced per second)",
+            s.candidates as f64 / s.render_seconds / 1e6
+        );
+        println!("chain steps/s        {:.3} M", s.steps / s.render_seconds / 1e6);
+    }
+    println!("acceptance rate      {:.3}", s.acceptance);
+    let source = if s.large_steps > 0 {
+        format!("{} bootstrap + {} large-step samples", s.bootstrap_samples, s.large_steps)
+    } else if p_large > 0.0 {
+        format!("{} bootstrap samples (no large step yet)", s.bootstrap_samples)
+    } else {
+        format!("{} bootstrap samples only (--p-large 0: no large steps refine it)", s.bootstrap_samples)
+    };
+    println!(
+        "normalisation b      {:.6} ± {:.6} ({:.2} %; {source})",
+        s.b,
+        s.b_standard_error,
+        100.0 * s.b_relative_standard_error()
+    );
+    println!("NaN/Inf rejected     {}", s.invalid);
+    if let Some(seconds) = s.compile_seconds {
+        println!("kernels compiled     {seconds:.2} s (before the clock)");
+    }
+    if s.bootstrap_seconds > 0.0 {
+        println!("bootstrap            {} samples in {:.2} s", s.bootstrap_samples, s.bootstrap_seconds);
+    }
+    println!("render time          {:.2} s", s.render_seconds);
+}

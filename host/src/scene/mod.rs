@@ -1,0 +1,288 @@
+//! Scenes: loading glTF 2.0 into the flat buffers the passes use (triangles in BVH order, the
+//! compressed wide BVH from obvhs, materials, the light CDF) and the camera.
+//!
+//! What is read, and nothing more (model only what a scene needs):
+//! - triangle meshes (primitive mode TRIANGLES; any other mode is an error) with node
+//!   transforms, matrix or TRS, of the default scene (or the first);
+//! - materials: `baseColorFactor` → albedo; `emissiveFactor` × `KHR_materials_emissive_strength`
+//!   → emission (one-sided, along the triangle's counter-clockwise normal); the Phong exponent
+//!   from the material's extras, key [`PHONG_EXPONENT_KEY`] (absent or 0: Lambertian).
+//!   Textures and other material extensions change the image but are not modelled: each is
+//!   named in a printed warning;
+//! - perspective cameras, in the order of a depth-first walk of the scene: view 1 is the first
+//!   (`--view N` picks another; each node looks down −Z with +Y up; the image aspect comes from
+//!   the render's width/height). Without one, the documented default: a 40° vertical field of
+//!   view looking down −Z at the centre of the scene's bounding box, from where the box's
+//!   larger side fills the view.
+
+mod read;
+
+pub use read::{files_hash, read_document, PHONG_EXPONENT_KEY};
+
+use glam::Vec3;
+use obvhs::cwbvh::CwBvh;
+use shared::bsdf::Material;
+use shared::camera::Camera;
+use shared::cwbvh::{WideBvh, WideNode, WIDE_BVH_STACK_SIZE};
+use shared::light::{light_cdf, LightEntry};
+use shared::mmlt::luminance;
+use shared::scene::Scene;
+use shared::triangle::Triangle;
+
+use crate::caster::HostCaster;
+
+/// Why a scene could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The file is missing or unreadable, or not valid glTF.
+    #[error("cannot load glTF scene {path}: {reason}")]
+    Load {
+        /// The scene path.
+        path: String,
+        /// The gltf crate's reason.
+        reason: String,
+    },
+    /// Something the renderer does not model and that would make the image wrong.
+    #[error("unsupported glTF content in {path}: {what}")]
+    Unsupported {
+        /// The scene path.
+        path: String,
+        /// What.
+        what: String,
+    },
+    /// No triangles at all.
+    #[error("scene {0} has no triangles")]
+    Empty(String),
+    /// No emitting triangle of positive area.
+    #[error("nothing emits light in scene {0}: give some material an emissiveFactor")]
+    NoEmitter(String),
+    /// The BVH is deeper than the device traversal stack.
+    #[error("the BVH of scene {path} is {depth} levels deep; traversal supports {max}")]
+    BvhTooDeep {
+        /// The scene path.
+        path: String,
+        /// Its depth.
+        depth: usize,
+        /// The limit.
+        max: usize,
+    },
+}
+
+/// Where the camera is and where it looks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraSpec {
+    /// Pinhole position.
+    pub position: Vec3,
+    /// Unit view direction.
+    pub forward: Vec3,
+    /// Unit up direction (orthogonal to forward).
+    pub up: Vec3,
+    /// Vertical field of view in radians.
+    pub yfov: f32,
+    /// The glTF camera's aspect ratio (width / height), when it states one: `--height`
+    /// defaults to the width divided by it.
+    pub aspect: Option<f32>,
+}
+
+/// A scene ready for rendering.
+#[derive(Clone, Debug)]
+pub struct SceneData {
+    /// Where it came from (for messages).
+    pub name: String,
+    /// Triangles in BVH order.
+    pub triangles: Vec<Triangle>,
+    /// The compressed wide BVH over `triangles` (nodes root first; its primitive order is the
+    /// triangles' order).
+    pub bvh: CwBvh,
+    /// Materials.
+    pub materials: Vec<Material>,
+    /// The light-selection CDF over emissive triangles.
+    pub lights: Vec<LightEntry>,
+    /// The camera of the selected view.
+    pub camera: CameraSpec,
+    /// Every perspective camera of the file, in scene order (views 1, 2, …).
+    pub views: Vec<CameraSpec>,
+    /// Bounding box of all triangles.
+    pub bounds: (Vec3, Vec3),
+    /// Things the renderer ignored that change the image.
+    pub warnings: Vec<String>,
+}
+
+/// A triangle mesh before the BVH: world-space triangles with their materials.
+#[derive(Clone, Debug, Default)]
+pub struct TriangleSoup {
+    /// Vertices (world space), three per triangle.
+    pub triangles: Vec<[Vec3; 3]>,
+    /// Material of each triangle.
+    pub material_of: Vec<u32>,
+    /// Materials.
+    pub materials: Vec<Material>,
+    /// The file's perspective cameras, in scene order.
+    pub cameras: Vec<CameraSpec>,
+    /// Ignored content.
+    pub warnings: Vec<String>,
+}
+
+impl SceneData {
+    /// The scene as the kernel bodies take it on the CPU backend: ray queries through the
+    /// host's fastest caster.
+    pub fn shared(&self) -> Scene<'_, HostCaster<'_>> {
+        self.with_caster(HostCaster { bvh: &self.bvh, triangles: &self.triangles })
+    }
+
+    /// The scene as the device sees it: ray queries through the shared wide-BVH traversal (on
+    /// the host, for the difftests and the ray test).
+    pub fn device_view(&self) -> Scene<'_, WideBvh<'_>> {
+        self.with_caster(WideBvh { nodes: self.wide_nodes(), triangles: &self.triangles })
+    }
+
+    /// The scene over another ray caster.
+    pub fn with_caster<R>(&self, caster: R) -> Scene<'_, R> {
+        Scene { caster, triangles: &self.triangles, materials: &self.materials, lights: &self.lights }
+    }
+
+    /// The BVH's nodes as the device's [`WideNode`]s (the same bytes).
+    pub fn wide_nodes(&self) -> &[WideNode] {
+        bytemuck::cast_slice(&self.bvh.nodes)
+    }
+
+    /// The device camera for an image of `width` × `height`.
+    pub fn camera(&self, width: u32, height: u32) -> Camera {
+        let c = self.camera;
+        let right = c.forward.cross(c.up).normalize();
+        Camera {
+            position: c.position.to_array(),
+            tan_half_fov_y: (c.yfov * 0.5).tan(),
+            right: right.to_array(),
+            aspect: width as f32 / height as f32,
+            up: right.cross(c.forward).normalize().to_array(),
+            width: width as f32,
+            forward: c.forward.to_array(),
+            height: height as f32,
+        }
+    }
+
+    /// Selects view `view` (1-based) among the file's cameras.
+    pub fn select_view(&mut self, view: u32) -> Result<(), SceneError> {
+        if view == 1 && self.views.is_empty() {
+            return Ok(()); // the default camera
+        }
+        match self.views.get(view.wrapping_sub(1) as usize) {
+            Some(c) => {
+                self.camera = *c;
+                Ok(())
+            }
+            None => Err(SceneError::Unsupported {
+                path: self.name.clone(),
+                what: format!("view {view} requested, but the scene has {} camera(s)", self.views.len()),
+            }),
+        }
+    }
+
+    /// Ray-origin offset relative to the scene's size.
+    pub fn epsilon(&self) -> f32 {
+        1e-5 * (self.bounds.1 - self.bounds.0).max_element().max(1e-3)
+    }
+
+    /// Builds the BVH, orders the triangles by it, and builds the light CDF.
+    pub fn from_soup(soup: TriangleSoup, name: &str) -> Result<Self, SceneError> {
+        if soup.triangles.is_empty() {
+            return Err(SceneError::Empty(name.into()));
+        }
+        let tris: Vec<obvhs::triangle::Triangle> = soup
+            .triangles
+            .iter()
+            .map(|t| obvhs::triangle::Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() })
+            .collect();
+        let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
+            &tris,
+            obvhs::BvhBuildParams::medium_build(),
+            &mut std::time::Duration::default(),
+        );
+        let depth = bvh_depth(&bvh);
+        if depth > WIDE_BVH_STACK_SIZE {
+            return Err(SceneError::BvhTooDeep { path: name.into(), depth, max: WIDE_BVH_STACK_SIZE });
+        }
+        debug_assert_eq!(bvh.primitive_indices.len(), tris.len(), "no spatial splits: one slot a triangle");
+        let mut triangles: Vec<Triangle> = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| {
+                let [a, b, c] = soup.triangles[i as usize];
+                Triangle {
+                    v0: a.to_array(),
+                    material: soup.material_of[i as usize],
+                    v1: b.to_array(),
+                    light_area_pdf: 0.0,
+                    v2: c.to_array(),
+                    area: 0.5 * (b - a).cross(c - a).length(),
+                }
+            })
+            .collect();
+        let power: Vec<f64> = triangles
+            .iter()
+            .map(|t| {
+                let e = Vec3::from_array(soup.materials[t.material as usize].emission);
+                (luminance(e) as f64 * t.area as f64).max(0.0)
+            })
+            .collect();
+        let area: Vec<f32> = triangles.iter().map(|t| t.area).collect();
+        let (lights, pdf) = light_cdf(&power, &area).ok_or_else(|| SceneError::NoEmitter(name.into()))?;
+        for (t, pdf) in triangles.iter_mut().zip(pdf) {
+            t.light_area_pdf = pdf;
+        }
+        let mut lo = Vec3::splat(f32::MAX);
+        let mut hi = Vec3::splat(f32::MIN);
+        for t in &soup.triangles {
+            for v in t {
+                lo = lo.min(*v);
+                hi = hi.max(*v);
+            }
+        }
+        let camera = soup.cameras.first().copied().unwrap_or_else(|| default_camera(lo, hi));
+        Ok(SceneData {
+            name: name.into(),
+            triangles,
+            bvh,
+            materials: soup.materials,
+            lights,
+            camera,
+            views: soup.cameras,
+            bounds: (lo, hi),
+            warnings: soup.warnings,
+        })
+    }
+}
+
+/// The documented default camera: 40° vertical field of view, looking down −Z at the box's
+/// centre from where its larger side fills the view.
+pub fn default_camera(lo: Vec3, hi: Vec3) -> CameraSpec {
+    let yfov = 40f32.to_radians();
+    let centre = (lo + hi) * 0.5;
+    let extent = hi - lo;
+    let distance = 0.5 * extent.x.max(extent.y) / (yfov * 0.5).tan() + 0.5 * extent.z;
+    CameraSpec {
+        position: centre + Vec3::Z * distance.max(1e-3),
+        forward: -Vec3::Z,
+        up: Vec3::Y,
+        yfov,
+        aspect: None,
+    }
+}
+
+/// Depth (levels of nodes) of a compressed wide BVH: the traversal stack holds at most one
+/// entry a level.
+fn bvh_depth(bvh: &CwBvh) -> usize {
+    let mut deepest = 0;
+    let mut stack = vec![(0usize, 1usize)];
+    while let Some((i, depth)) = stack.pop() {
+        deepest = deepest.max(depth);
+        let node = &bvh.nodes[i];
+        for child in 0..8 {
+            if !node.is_leaf(child) {
+                stack.push((node.child_node_index(child) as usize, depth + 1));
+            }
+        }
+    }
+    deepest
+}

@@ -1,0 +1,20 @@
+//! The scene as the kernels see it: a ray caster over the triangles, and the triangles,
+//! materials and light-selection CDF that shading and light sampling read (slices of device
+//! buffers on the device, of host buffers on the CPU backend).
+
+use crate::bsdf::Material;
+use crate::light::LightEntry;
+use crate::triangle::Triangle;
+
+/// The scene, over the ray caster `R` (the one seam between the path code and ray casting).
+#[derive(Clone, Copy)]
+pub struct Scene<'a, R> {
+    /// Answers the closest-hit and occlusion queries; its hits index `triangles`.
+    pub caster: R,
+    /// Triangles in the ray caster's order.
+    pub triangles: &'a [Triangle],
+    #[allow(missing_docs)] // indexed by Triangle::material
+    pub materials: &'a [Material],
+    /// Light-selection CDF.
+    pub lights: &'a [LightEntry],
+}

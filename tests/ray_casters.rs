@@ -1,0 +1,203 @@
+//! Every ray caster answers every query the same way, ray by ray, on every real scene in
+//! `../shared/scenes/` and every generated stand-in: the device's wide-BVH traversal (the
+//! shared body run on the host), the CPU backend's caster (obvhs's traversal of the same
+//! BVH), and the `raycast` kernel on the Vulkan device. 10^5 closest-hit and 10^5 occlusion
+//! queries a scene, from points on the scene's own triangles (as path vertices are) in uniform
+//! directions, a seventh of them axis-parallel.
+//!
+//! The host casters run the same triangle test over the same BVH, so they must agree exactly:
+//! the same t, the same triangle but for ties (two triangles hit at the same t: a ray through a
+//! shared edge), which are counted and bounded. The device computes in its own floating point
+//! (fused multiply-adds), so a ray grazing an edge may hit the neighbouring triangle or slip
+//! through; those are counted and bounded too.
+
+mod common;
+
+use std::path::Path;
+
+use glam::Vec3;
+use shared::mmlt::RenderParams;
+use shared::ray_caster::{Hit, RayCaster, NO_HIT};
+use shared::rays::{cast, Ray, RAY_CLOSEST, RAY_OCCLUSION};
+use smlt::passes;
+use smlt::scene::SceneData;
+
+/// Queries of each kind per scene.
+const QUERIES: usize = 100_000;
+
+/// A xorshift stream of uniforms in [0, 1).
+struct Uniforms(u64);
+
+impl Uniforms {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// The queries: closest-hit rays from random points of random triangles (tmin a ten-thousandth
+/// of the scene's diagonal, past the origin's own triangle), then one occlusion ray along each
+/// with an interval ending before, at or after the closest hit.
+fn queries(scene: &SceneData, seed: u64) -> Vec<Ray> {
+    let mut u = Uniforms(seed);
+    let diagonal = (scene.bounds.1 - scene.bounds.0).length();
+    let tmin = 1e-4 * diagonal;
+    let caster = scene.shared().caster;
+    let mut rays = Vec::with_capacity(2 * QUERIES);
+    let mut occlusion = Vec::with_capacity(QUERIES);
+    let (lo, hi) = scene.bounds;
+    while rays.len() < QUERIES {
+        let tri = scene.triangles[(u.next() * scene.triangles.len() as f32) as usize % scene.triangles.len()];
+        let (a, b) = (u.next(), u.next());
+        let (b0, b1) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+        let mut o = tri.point(b0, b1);
+        let z = 1.0 - 2.0 * u.next();
+        let phi = std::f32::consts::TAU * u.next();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let mut d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+        if rays.len() % 7 == 0 {
+            // Axis-parallel: one or two zero components, of both signs, from a point inside the
+            // scene's box (from a point on an axis-aligned wall such a ray would run inside the
+            // wall's plane, where hitting a neighbour's edge is a matter of rounding).
+            o = lo + (hi - lo) * Vec3::new(u.next(), u.next(), u.next());
+            d.x = if rays.len() % 2 == 0 { 0.0 } else { -0.0 };
+            if rays.len() % 3 == 0 {
+                d.y = if rays.len() % 4 == 0 { 0.0 } else { -0.0 };
+            }
+        }
+        if d.length() < 1e-3 {
+            continue;
+        }
+        let d = d.normalize();
+        rays.push(Ray::new(RAY_CLOSEST, o, d, tmin, NO_HIT));
+        let hit = caster.closest_hit(o, d, tmin, NO_HIT);
+        let reach = if hit.found() { hit.t } else { diagonal };
+        let tmax = reach * [0.5, 0.999, 1.001, 2.0][rays.len() % 4];
+        occlusion.push(Ray::new(RAY_OCCLUSION, o, d, tmin, tmax));
+    }
+    rays.extend(occlusion);
+    rays
+}
+
+/// What one caster answered for one query.
+fn answer<R: RayCaster>(caster: &R, ray: &Ray) -> Hit {
+    let (o, d) = (Vec3::from_array(ray.origin), Vec3::from_array(ray.direction));
+    if ray.kind == RAY_CLOSEST {
+        caster.closest_hit(o, d, ray.tmin, ray.tmax)
+    } else {
+        let blocked = caster.occluded(o, d, ray.tmin, ray.tmax);
+        Hit { t: if blocked { 0.0 } else { NO_HIT }, triangle: 0 }
+    }
+}
+
+/// How two casters' answers to the same queries compare.
+#[derive(Debug, Default)]
+struct Agreement {
+    hits: usize,
+    /// Same t (within 1e-5 relative), different triangles.
+    ties: usize,
+    /// Different answers: one hit and one miss, or different t.
+    differ: usize,
+}
+
+fn compare(a: &[Hit], b: &[Hit], rays: &[Ray]) -> Agreement {
+    let mut out = Agreement::default();
+    for ((x, y), ray) in a.iter().zip(b).zip(rays) {
+        out.hits += x.found() as usize;
+        if x.found() != y.found() || (x.found() && (x.t - y.t).abs() > 1e-5 * x.t.abs().max(y.t.abs())) {
+            if out.differ < 5 {
+                println!("  differ: {ray:?}: {x:?} vs {y:?}");
+            }
+            out.differ += 1;
+        } else if ray.kind == RAY_CLOSEST && x.found() && x.triangle != y.triangle {
+            out.ties += 1;
+        }
+    }
+    out
+}
+
+/// The scenes: every generated stand-in and the real scenes (which CI must have).
+fn scenes() -> Vec<SceneData> {
+    let mut scenes: Vec<SceneData> = ["cornell", "atrium", "nave", "sunblind", "slit"]
+        .iter()
+        .map(|name| {
+            let json = smlt::scenes::generate(name, 1).expect("a generated scene");
+            SceneData::from_slice(json.as_bytes(), name).expect("the scene loads")
+        })
+        .collect();
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes");
+    for file in
+        ["sibenik/sibenik.gltf", "sponza_dabrovic/sponza_dabrovic.gltf", "cornell_box/cornell_box.gltf"]
+    {
+        let path = shared.join(file);
+        if path.exists() {
+            scenes.push(SceneData::load(&path).expect("the real scene loads"));
+        } else {
+            assert_ne!(std::env::var("CI").as_deref(), Ok("true"), "CI=true and no {}", path.display());
+            eprintln!("SKIPPED {}: not there", path.display());
+        }
+    }
+    scenes
+}
+
+#[test]
+fn every_caster_answers_every_query_alike() {
+    let gpu = common::gpu_or_skip("every_caster_answers_every_query_alike");
+    for (i, scene) in scenes().iter().enumerate() {
+        let rays = queries(scene, 0x9E37_79B9 + i as u64);
+        let wide = scene.device_view().caster;
+        let host = scene.shared().caster;
+        let shared_answers: Vec<Hit> = rays.iter().map(|r| answer(&wide, r)).collect();
+        let host_answers: Vec<Hit> = rays.iter().map(|r| answer(&host, r)).collect();
+        let hosts = compare(&shared_answers, &host_answers, &rays);
+        println!(
+            "{}: {} triangles, {} queries, {} hit/blocked; shared vs host caster: {} ties, {} differ",
+            scene.name,
+            scene.triangles.len(),
+            rays.len(),
+            hosts.hits,
+            hosts.ties,
+            hosts.differ
+        );
+        assert_eq!(hosts.differ, 0, "{}: the host casters disagree", scene.name);
+        assert!(hosts.ties * 1000 <= rays.len(), "{}: {} ties", scene.name, hosts.ties);
+        assert!(hosts.hits * 4 > rays.len(), "{}: the queries should mostly hit", scene.name);
+        let Some(gpu) = &gpu else { continue };
+        // One query per invocation: the kernel's answer word is the query's own.
+        let params = RenderParams { candidates: rays.len() as u32, ..Default::default() };
+        let replayed =
+            smlt::bench::raycast::replay_rays(gpu, scene, &rays, params.candidates).expect("device replay");
+        let mut expected = vec![0u32; rays.len()];
+        passes::raycast::cpu(&params, &host, &rays, &mut expected);
+        assert_eq!(expected, rays.iter().map(|r| cast(&host, r)).collect::<Vec<_>>());
+        let (mut differ, mut ties) = (0, 0);
+        for (k, (&dev, &cpu)) in replayed.iter().zip(&expected).enumerate() {
+            if dev != cpu {
+                // A different triangle at the same distance is a tie; anything else differs.
+                let tie = rays[k].kind == RAY_CLOSEST && dev > 0 && cpu > 0 && {
+                    let (o, d) = (Vec3::from_array(rays[k].origin), Vec3::from_array(rays[k].direction));
+                    let t = |slot: u32| {
+                        shared::triangle::intersect_triangle(
+                            &scene.triangles[slot as usize - 1],
+                            o,
+                            d,
+                            0.0,
+                            NO_HIT,
+                        )
+                    };
+                    (t(dev) - t(cpu)).abs() <= 1e-5 * t(cpu).abs()
+                };
+                if tie {
+                    ties += 1;
+                } else {
+                    differ += 1;
+                }
+            }
+        }
+        println!("{}: device vs host: {ties} ties, {differ} differ", scene.name);
+        assert!(differ * 2000 <= rays.len(), "{}: {differ} device answers differ", scene.name);
+        assert!(ties * 1000 <= rays.len(), "{}: {ties} device ties", scene.name);
+    }
+}
