@@ -13,7 +13,7 @@ use shared::triangle::{intersect_triangle, Triangle};
 /// obvhs's CWBVH traversal over the scene's triangles (in the BVH's order).
 #[derive(Clone, Copy)]
 pub struct HostCaster<'a> {
-    /// The BVH.
+    /// obvhs's compressed wide BVH over `triangles`.
     pub bvh: &'a CwBvh,
     /// The triangles, in the BVH's order (a leaf's triangle `i` is slot `i`).
     pub triangles: &'a [Triangle],

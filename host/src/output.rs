@@ -17,9 +17,9 @@ pub enum OutputError {
     /// The output cannot be created.
     #[error("cannot write {path}: {reason}")]
     Write {
-        /// The path.
+        #[allow(missing_docs)] // named for what it is
         path: String,
-        /// Why.
+        /// The underlying error's message.
         reason: String,
     },
 }

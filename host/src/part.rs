@@ -26,25 +26,25 @@ const ATTRIBUTE: &str = "smltPart";
 /// What makes two parts parts of the same render.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Identity {
-    /// The scene's name.
+    /// The scene's `SceneData::name`: its file path, or a built-in scene's name.
     pub scene: String,
     /// A hash of the scene's files (the glTF and its buffers).
     pub scene_hash: String,
-    /// The camera.
+    /// The view: 1-based index among the scene file's cameras.
     pub view: u32,
-    /// Image width.
+    /// Image width in pixels.
     pub width: u32,
-    /// Image height.
+    /// Image height in pixels.
     pub height: u32,
-    /// Maximum bounces.
+    /// Maximum number of bounces (pbrt's maxdepth).
     pub max_depth: u32,
-    /// Seed.
+    /// The seed every random number of the render is keyed by.
     pub seed: u32,
-    /// Method.
+    /// The method as printed: `naive`, `s<d>` or `rc<l>`.
     pub method: String,
     /// Candidates per iteration of the whole render (sets the chain count).
     pub candidates: u32,
-    /// Bootstrap samples.
+    /// Bootstrap samples, from which the chains' start states are drawn.
     pub bootstrap_samples: u32,
     /// Kelemen's smallest small-step size (`shared::mutation::MutationParams::s1`).
     pub s1: f32,
@@ -178,11 +178,11 @@ pub struct Part {
     pub shard: u32,
     /// Iterations it ran.
     pub iterations: u64,
-    /// Its render seconds.
+    /// Seconds of its iterations (a merge reports the largest part's).
     pub render_seconds: f64,
     /// The device it ran on.
     pub device: String,
-    /// Its accumulation.
+    /// Its splat sums and tallies, which [`merge`] adds in shard order.
     pub accumulation: Accumulation,
     /// The bootstrap's moments (the same in every part of a render).
     pub bootstrap: Moments,
@@ -211,9 +211,9 @@ pub enum PartError {
     /// Two parts of different renders.
     #[error("{a} and {b} are parts of different renders ({difference})")]
     Mismatch {
-        /// One part.
+        /// Path of one part.
         a: String,
-        /// The other.
+        /// Path of the other part.
         b: String,
         /// The first difference.
         difference: String,
@@ -223,9 +223,9 @@ pub enum PartError {
     Duplicate {
         /// The shard, K/N.
         shard: String,
-        /// One file.
+        /// Path of one part giving the shard.
         a: String,
-        /// The other.
+        /// Path of the other.
         b: String,
     },
     /// A shard is missing.

@@ -22,15 +22,15 @@ pub struct ReferenceSettings {
     pub scene: String,
     /// FNV-1a hash of the scene's bytes.
     pub scene_hash: String,
-    /// Width.
+    /// Image width in pixels.
     pub width: u32,
-    /// Height.
+    /// Image height in pixels.
     pub height: u32,
-    /// Maximum bounces.
+    /// Maximum number of bounces (pbrt's maxdepth).
     pub max_depth: u32,
     /// Samples per pixel.
     pub spp: u32,
-    /// Seed.
+    /// The `seed` word of the reference kernel's random keys.
     pub seed: u32,
 }
 

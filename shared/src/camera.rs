@@ -105,9 +105,9 @@ impl Camera {
 /// Where a direction lands on the film.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RasterPoint {
-    /// Raster x.
+    /// Raster x: 0 at the image's left edge, `width` at its right.
     pub x: f32,
-    /// Raster y.
+    /// Raster y: 0 at the image's top edge, `height` at its bottom.
     pub y: f32,
     /// Cosine between the direction and the view direction.
     pub cos_theta: f32,

@@ -53,7 +53,7 @@ pub fn tally_large_step(state: &mut ChainState, c: f32) {
 #[cfg(not(target_arch = "spirv"))]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Moments {
-    /// Number of samples.
+    #[allow(missing_docs)] // of the samples: named for what it is
     pub count: u64,
     /// Σ c.
     pub sum: f64,

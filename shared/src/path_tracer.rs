@@ -28,15 +28,15 @@ use crate::triangle::NO_HIT;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ReferenceParams {
-    /// The camera.
+    #[allow(missing_docs)] // named for what it is
     pub camera: Camera,
-    /// Image width.
+    /// Image width in pixels.
     pub width: u32,
-    /// Image height.
+    /// Image height in pixels.
     pub height: u32,
     /// Maximum number of bounces (pbrt's maxdepth).
     pub max_depth: u32,
-    /// The seed.
+    /// The `seed` word of every random key.
     pub seed: u32,
     /// Entries of the light CDF.
     pub light_count: u32,

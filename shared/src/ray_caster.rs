@@ -19,7 +19,7 @@ pub struct Hit {
 }
 
 impl Hit {
-    /// No hit.
+    /// A miss: `t` is [`NO_HIT`], so [`Hit::found`] is false.
     pub const NONE: Hit = Hit { t: NO_HIT, triangle: 0 };
 
     /// Whether the ray hit anything.

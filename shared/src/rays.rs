@@ -34,7 +34,7 @@ pub struct Ray {
 }
 
 impl Ray {
-    /// A ray query.
+    /// The query `kind` along o + t·d for tmin < t < tmax.
     pub fn new(kind: u32, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Self {
         Self { origin: o.to_array(), tmin, direction: d.to_array(), tmax, kind, _pad: [0; 3] }
     }

@@ -12,7 +12,7 @@ pub const NO_HIT: f32 = 3.0e38;
 pub struct Triangle {
     /// First vertex (world space).
     pub v0: [f32; 3],
-    /// Material index.
+    /// Index into the scene's materials.
     pub material: u32,
     #[allow(missing_docs)] // the second vertex
     pub v1: [f32; 3],

@@ -5,11 +5,11 @@
 /// A mean and the half-width of its 95 % confidence interval (0 for a single value).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interval {
-    /// The mean of the values.
+    #[allow(missing_docs)] // of the values: named for what it is
     pub mean: f64,
     /// Half the width of the 95 % interval: t(0.975, n − 1) · s / √n.
     pub half_width: f64,
-    /// How many values.
+    /// Number of values; below 2 the half-width is 0.
     pub n: usize,
 }
 
@@ -39,12 +39,12 @@ impl Interval {
         Interval { mean, half_width: t975(n - 1) * (variance / n as f64).sqrt(), n }
     }
 
-    /// Lower end.
+    /// Lower end: mean − half-width.
     pub fn low(&self) -> f64 {
         self.mean - self.half_width
     }
 
-    /// Upper end.
+    /// Upper end: mean + half-width.
     pub fn high(&self) -> f64 {
         self.mean + self.half_width
     }

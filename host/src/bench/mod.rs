@@ -42,13 +42,13 @@ pub struct BenchSettings {
     pub methods: Vec<Method>,
     /// Render seconds per method.
     pub seconds: f64,
-    /// Image width.
+    /// Image width in pixels.
     pub width: u32,
-    /// Image height.
+    /// Image height in pixels.
     pub height: u32,
-    /// Maximum bounces.
+    /// Maximum number of bounces (pbrt's maxdepth).
     pub max_depth: u32,
-    /// Seed.
+    /// Seed of the first repeat (repeat r uses `seed + r`).
     pub seed: u32,
     /// Samples per pixel of the references.
     pub reference_spp: u32,
@@ -62,7 +62,7 @@ pub struct BenchSettings {
     pub repeats: u32,
     /// A reference image to use instead of rendering one (one scene view only).
     pub reference: Option<PathBuf>,
-    /// Output folder.
+    /// Folder for `results.csv`, `passes.csv`, `tables.md`, the plots and the references.
     pub out: PathBuf,
 }
 

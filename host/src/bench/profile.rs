@@ -27,11 +27,11 @@ pub const REPLAYS: u32 = 4;
 /// One method's profile on one scene view.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Profile {
-    /// Scene name.
+    /// The scene's label: a generated scene's name or a glTF file's stem.
     pub scene: String,
-    /// View.
+    /// The view: 1-based index among the scene's cameras.
     pub view: u32,
-    /// Method.
+    /// The method as printed: `naive`, `s<d>` or `rc<l>`.
     pub method: String,
     /// Candidates per iteration.
     pub candidates: u32,

@@ -8,11 +8,11 @@ use crate::bench::metrics::Errors;
 /// One measurement.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
-    /// Scene name.
+    /// The scene's label: a generated scene's name or a glTF file's stem.
     pub scene: String,
-    /// View.
+    /// The view: 1-based index among the scene's cameras.
     pub view: u32,
-    /// Method.
+    /// The method as printed: `naive`, `s<d>` or `rc<l>`.
     pub method: String,
     /// Which of the independent repeats (0-based; its seed is the bench's seed + repeat).
     pub repeat: u32,

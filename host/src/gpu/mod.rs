@@ -64,7 +64,7 @@ pub enum GpuError {
     /// The driver or wgpu rejected a pipeline.
     #[error("the device rejected kernel {entry}: {message}")]
     Pipeline {
-        /// The entry point.
+        /// The kernel's entry-point name (e.g. `trace_cs`).
         entry: String,
         /// wgpu's validation message, on one line.
         message: String,
@@ -96,9 +96,9 @@ pub struct Gpu {
     /// The optional features the device was opened with (passthrough, float atomics,
     /// timestamp queries), where the adapter has them.
     pub features: wgpu::Features,
-    /// The logical device.
+    #[allow(missing_docs)] // wgpu's device and its queue: named for what they are
     pub device: wgpu::Device,
-    /// Its queue.
+    #[allow(missing_docs)]
     pub queue: wgpu::Queue,
     /// The kernels module.
     pub module: wgpu::ShaderModule,

@@ -6,7 +6,7 @@
 /// decorated `NonWritable`), in binding order.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct EntryInterface {
-    /// The entry point's name.
+    /// As `OpEntryPoint` names it (e.g. `trace_cs`).
     pub name: String,
     /// `LocalSize` (x, y, z).
     pub workgroup_size: [u32; 3],

@@ -11,7 +11,7 @@ use super::buffers::GpuBuffers;
 use super::{Binding, Pass, Stage};
 use crate::gpu::{Gpu, GpuError};
 
-/// The GPU pass.
+/// The pass on `gpu`, binding the buffers of `b` that the module doc lists.
 pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
     Pass::new(
         gpu,

@@ -8,7 +8,7 @@ use crate::gpu::{Gpu, GpuError};
 /// A batch of self-test cases with their inputs.
 #[derive(Clone, Debug, Default)]
 pub struct SelfTestBatch {
-    /// The cases.
+    #[allow(missing_docs)] // named for what they are
     pub cases: Vec<SelfTestCase>,
     /// Their inputs, at each case's `input` offset.
     pub inputs: Vec<f32>,

@@ -182,7 +182,7 @@ impl CpuBackend<'_> {
             .collect()
     }
 
-    /// The threads.
+    /// Threads in the backend's rayon pool.
     pub fn threads(&self) -> usize {
         self.threads
     }

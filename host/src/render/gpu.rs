@@ -49,7 +49,7 @@ impl GpuBackend {
         Ok(Self { gpu, buffers, passes, pixels, chains: params.chains, dims: params.dims })
     }
 
-    /// The device.
+    #[allow(missing_docs)] // named for what it returns
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
     }

@@ -59,13 +59,13 @@ impl Stats {
 /// A finished render (or a part of one), with what it needs to be merged with others.
 #[derive(Clone, Debug)]
 pub struct Rendered {
-    /// Width.
+    /// Image width in pixels.
     pub width: u32,
-    /// Height.
+    /// Image height in pixels.
     pub height: u32,
     /// Linear rgb, row-major from the top-left pixel.
     pub rgb: Vec<f32>,
-    /// Measurements.
+    #[allow(missing_docs)] // named for what it is
     pub stats: Stats,
     /// The splat sums and tallies the image was computed from.
     pub accumulation: Accumulation,

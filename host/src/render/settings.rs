@@ -71,9 +71,9 @@ impl FromStr for Shard {
 /// Everything that defines a render.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
-    /// Image width.
+    /// Image width in pixels.
     pub width: u32,
-    /// Image height.
+    /// Image height in pixels.
     pub height: u32,
     /// Maximum bounces (pbrt's maxdepth; paths of up to max_depth + 1 segments).
     pub max_depth: u32,
@@ -85,9 +85,10 @@ pub struct Settings {
     pub budget: Budget,
     /// Candidates traced per iteration by the whole render (divided among chains).
     pub candidates: u32,
-    /// Bootstrap samples.
+    /// Bootstrap samples, from which the chains' start states are drawn (at least one per chain
+    /// is traced).
     pub bootstrap_samples: u32,
-    /// Mutation schedule.
+    /// Kelemen's s1 and s2 and the large-step probability p_large.
     pub mutation: MutationParams,
     /// The part of the chains this process renders.
     pub shard: Shard,

@@ -37,7 +37,7 @@ pub enum SceneError {
     /// The file is missing or unreadable, or not valid glTF.
     #[error("cannot load glTF scene {path}: {reason}")]
     Load {
-        /// The scene path.
+        /// The scene's name for messages: its file path, or a built-in scene's name.
         path: String,
         /// The gltf crate's reason.
         reason: String,
@@ -45,9 +45,9 @@ pub enum SceneError {
     /// Something the renderer does not model and that would make the image wrong.
     #[error("unsupported glTF content in {path}: {what}")]
     Unsupported {
-        /// The scene path.
+        /// The scene's name for messages: its file path, or a built-in scene's name.
         path: String,
-        /// What.
+        /// The unsupported content, in words.
         what: String,
     },
     /// No triangles at all.
@@ -59,11 +59,11 @@ pub enum SceneError {
     /// The BVH is deeper than the device traversal stack.
     #[error("the BVH of scene {path} is {depth} levels deep; traversal supports {max}")]
     BvhTooDeep {
-        /// The scene path.
+        /// The scene's name for messages: its file path, or a built-in scene's name.
         path: String,
-        /// Its depth.
+        /// The BVH's depth in levels.
         depth: usize,
-        /// The limit.
+        /// The deepest BVH the traversal supports ([`WIDE_BVH_STACK_SIZE`]).
         max: usize,
     },
 }
@@ -94,7 +94,7 @@ pub struct SceneData {
     /// The compressed wide BVH over `triangles` (nodes root first; its primitive order is the
     /// triangles' order).
     pub bvh: CwBvh,
-    /// Materials.
+    /// Indexed by `Triangle::material`.
     pub materials: Vec<Material>,
     /// The light-selection CDF over emissive triangles.
     pub lights: Vec<LightEntry>,
@@ -115,7 +115,7 @@ pub struct TriangleSoup {
     pub triangles: Vec<[Vec3; 3]>,
     /// Material of each triangle.
     pub material_of: Vec<u32>,
-    /// Materials.
+    /// Indexed by `material_of`.
     pub materials: Vec<Material>,
     /// The file's perspective cameras, in scene order.
     pub cameras: Vec<CameraSpec>,

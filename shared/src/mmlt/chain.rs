@@ -22,6 +22,6 @@ pub struct ChainState {
     pub large_sum: f32,
     /// Σ c² of those candidates.
     pub large_sum_sq: f32,
-    /// Padding.
+    /// Padding to 48 bytes.
     pub _pad: u32,
 }

@@ -62,7 +62,7 @@ pub fn technique(u0: f32, depth: u32) -> (u32, u32) {
 /// Read access to one candidate's primary samples in the SoA candidate buffer.
 #[derive(Clone, Copy)]
 pub struct Samples {
-    /// The candidate.
+    /// Index k of the candidate in the buffer.
     pub candidate: u32,
     /// Candidates in the buffer (the SoA stride).
     pub count: u32,

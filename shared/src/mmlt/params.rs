@@ -28,13 +28,13 @@ pub fn bootstrap_key(seed: u32, sample: u32) -> crate::rng::RngKey {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct RenderParams {
-    /// The camera.
+    #[allow(missing_docs)] // named for what it is
     pub camera: Camera,
-    /// The mutation schedule.
+    /// Kelemen's s1 and s2 and the large-step probability p_large.
     pub mutation: MutationParams,
-    /// Image width.
+    /// Image width in pixels.
     pub width: u32,
-    /// Image height.
+    /// Image height in pixels.
     pub height: u32,
     /// Maximum number of bounces (pbrt's maxdepth).
     pub max_depth: u32,
@@ -46,9 +46,9 @@ pub struct RenderParams {
     pub candidates: u32,
     /// Speculative tree depth d (1 = naive parallel MMLT).
     pub tree_depth: u32,
-    /// Iteration of the chains.
+    /// Iterations already run (0 first): the `iteration` word of the chains' random keys.
     pub iteration: u32,
-    /// The user's seed.
+    /// The `seed` word of every random key.
     pub seed: u32,
     /// Entries of the light CDF.
     pub light_count: u32,

@@ -18,7 +18,7 @@ use super::*;
 pub struct LightSample {
     /// The vertex (kind LIGHT, beta = emission / area density, pdf_fwd = area density).
     pub vertex: PathVertex,
-    /// Its emission.
+    /// Emitted radiance of the light's material (`Material::emission`).
     pub emission: Vec3,
 }
 

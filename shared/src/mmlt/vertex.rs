@@ -18,13 +18,13 @@ pub const KIND_SURFACE: u32 = 2;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PathVertex {
-    /// Position.
+    /// World-space position.
     pub p: [f32; 3],
     /// [`KIND_CAMERA`], [`KIND_LIGHT`] or [`KIND_SURFACE`].
     pub kind: u32,
     /// Geometric normal (the camera's: its view direction).
     pub n: [f32; 3],
-    /// Material index.
+    /// Index into the scene's materials.
     pub material: u32,
     /// Throughput of the subpath up to this vertex.
     pub beta: [f32; 3],
@@ -34,7 +34,7 @@ pub struct PathVertex {
     pub pdf_rev: f32,
     /// Triangle slot the vertex lies on.
     pub triangle: u32,
-    /// Padding.
+    /// Padding to 64 bytes.
     pub _pad: [u32; 2],
 }
 
@@ -66,7 +66,7 @@ pub struct PathInfo {
     pub pixel: u32,
     /// Path depth k.
     pub depth: u32,
-    /// Padding.
+    /// Padding to 32 bytes.
     pub _pad: [u32; 2],
 }
 
