@@ -3,7 +3,10 @@
 #  - the nightly pinned in rust-toolchain.toml with rust-src, rustc-dev and llvm-tools
 #    (rust-gpu's backend requires exactly that nightly; nothing installs it implicitly here);
 #  - when no Vulkan driver is installed, Debian's Vulkan loader and lavapipe, Mesa's CPU
-#    Vulkan driver (packages libvulkan1 and mesa-vulkan-drivers).
+#    Vulkan driver (packages libvulkan1 and mesa-vulkan-drivers);
+#  - when it is missing, Intel Embree (libembree3-3): the CPU backend's fastest ray caster,
+#    loaded at run time. smlt runs without it (rays through obvhs's traversal, about 2.4x
+#    slower), so where it cannot be installed this only prints a note.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -25,15 +28,29 @@ has_vulkan_driver() {
     return 1
 }
 
+has_embree() { ldconfig -p 2>/dev/null | grep -q 'libembree3\.so\.3'; }
+can_apt() { [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; }
+
+vulkan_packages=""
 if ! has_vulkan_loader || ! has_vulkan_driver; then
-    packages="libvulkan1 mesa-vulkan-drivers"
-    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
-        echo "setup: no Vulkan driver found; installing the loader and lavapipe ($packages)" >&2
-        apt-get update -qq
-        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $packages >/dev/null
-    else
-        echo "error: no Vulkan driver found and cannot install one here (needs root and apt-get);" >&2
-        echo "       run: sudo apt-get install $packages   (or install your GPU's Vulkan driver)" >&2
-        exit 1
+    vulkan_packages="libvulkan1 mesa-vulkan-drivers"
+fi
+embree_packages=""
+has_embree || embree_packages="libembree3-3"
+if [ -n "$vulkan_packages$embree_packages" ] && can_apt; then
+    echo "setup: installing $vulkan_packages $embree_packages" >&2
+    apt-get update -qq
+    if [ -n "$vulkan_packages" ]; then
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $vulkan_packages >/dev/null
     fi
+    if [ -n "$embree_packages" ]; then
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $embree_packages >/dev/null ||
+            echo "note: could not install $embree_packages; the CPU backend casts rays without Embree (slower)" >&2
+    fi
+elif [ -n "$vulkan_packages" ]; then
+    echo "error: no Vulkan driver found and cannot install one here (needs root and apt-get);" >&2
+    echo "       run: sudo apt-get install $vulkan_packages   (or install your GPU's Vulkan driver)" >&2
+    exit 1
+elif [ -n "$embree_packages" ]; then
+    echo "note: Embree not found; the CPU backend casts rays without it (slower): sudo apt-get install $embree_packages" >&2
 fi

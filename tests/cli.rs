@@ -79,6 +79,43 @@ fn a_render_without_a_display_prints_no_error() {
     }
 }
 
+/// The CPU backend names its ray caster on the first line: Embree where it is installed (as
+/// in CI), obvhs's traversal when `SMLT_RAY_CASTER=obvhs` asks for it; both render.
+#[test]
+fn the_cpu_backend_names_its_ray_caster() {
+    for (caster, expected) in [(None, "Embree 3"), (Some("obvhs"), "obvhs")] {
+        let dir = temp_dir(&format!("caster-{expected}").replace(' ', "-"));
+        let mut command = Command::new(env!("CARGO_BIN_EXE_smlt"));
+        command.args([
+            "render",
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "--mutations-per-pixel",
+            "2",
+            "--device",
+            "cpu",
+        ]);
+        command.arg("--out").arg(dir.join("c.exr"));
+        if let Some(c) = caster {
+            command.env("SMLT_RAY_CASTER", c);
+        }
+        let out = command.output().unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let first = stdout.lines().next().unwrap_or_default();
+        if caster.is_none() && smlt::caster::embree_unavailable().is_some() {
+            assert_ne!(std::env::var("CI").as_deref(), Ok("true"), "CI=true and no Embree");
+            eprintln!("SKIPPED the Embree line: {:?}", smlt::caster::embree_unavailable());
+        } else {
+            assert!(first.contains(&format!("rays through {expected}")), "{first}");
+        }
+        assert!(dir.join("c.exr").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
 #[test]
 fn renders_the_default_scene_on_the_cpu() {
     let dir = temp_dir("cpu");

@@ -81,7 +81,7 @@ struct Difftest<'a> {
     params: RenderParams,
     scene: Scene<'a, HostCaster<'a>>,
     dev: gpu::GpuBackend,
-    cpu: CpuBuffers<'a>,
+    cpu: CpuBuffers<'a, HostCaster<'a>>,
     /// The chains' states before `select`.
     start: Vec<ChainState>,
 }
@@ -107,7 +107,7 @@ impl<'a> Difftest<'a> {
             params: RenderParams { iteration: 5, ..base },
             scene: scene.shared(),
             dev: gpu::GpuBackend::new(gpu, scene, &base).expect("device buffers"),
-            cpu: CpuBuffers::new(scene, &base),
+            cpu: CpuBuffers::new(scene.shared(), &base),
             start: Vec::new(),
         }
     }

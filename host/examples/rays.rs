@@ -84,9 +84,13 @@ fn main() -> anyhow::Result<()> {
         println!("  {label:<44} {:>7.2} M rays/s ({hits} hits)", rays as f64 / seconds / 1e6);
     };
     let wide = scene.device_view().caster;
+    let build = Instant::now();
     let host = scene.shared().caster;
+    println!("  CPU backend caster: {} (built in {:.2} s)", host.describe(), build.elapsed().as_secs_f64());
+    let obvhs = scene.obvhs_view().caster;
     time("shared wide BVH (the kernels' traversal)", &|o, d| wide.closest_hit(o, d, tmin, NO_HIT).found());
-    time("CPU backend caster (obvhs traversal)", &|o, d| host.closest_hit(o, d, tmin, NO_HIT).found());
+    time("obvhs traversal, smlt's triangle test", &|o, d| obvhs.closest_hit(o, d, tmin, NO_HIT).found());
+    time("CPU backend caster", &|o, d| host.closest_hit(o, d, tmin, NO_HIT).found());
     let rt: Vec<obvhs::rt_triangle::RtTriangle> = bvh
         .primitive_indices
         .iter()
@@ -98,6 +102,7 @@ fn main() -> anyhow::Result<()> {
         bvh.ray_traverse(ray, &mut hit, |r, id| rt[id].intersect(r))
     });
     time("shared wide BVH, occlusion to t = 1", &|o, d| wide.occluded(o, d, tmin, 1.0));
+    time("obvhs traversal, occlusion to t = 1", &|o, d| obvhs.occluded(o, d, tmin, 1.0));
     time("CPU backend caster, occlusion to t = 1", &|o, d| host.occluded(o, d, tmin, 1.0));
     Ok(())
 }

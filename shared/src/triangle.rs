@@ -42,36 +42,62 @@ impl Triangle {
     }
 }
 
-/// Möller–Trumbore: the distance in (tmin, tmax) at which the ray hits the triangle, or
-/// [`NO_HIT`]. Both faces are hit; degenerate triangles never are; NaN is never a hit.
-#[allow(clippy::manual_range_contains)] // explicit comparisons reject NaN on the device too
+/// A triangle as the ray test reads it: a vertex and the two edges from it. Casters that keep
+/// these precomputed (the CPU backend's) answer exactly as [`intersect_triangle`]: the edges
+/// are the same f32 differences it computes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TriangleEdges {
+    /// The first vertex.
+    pub v0: Vec3,
+    /// v1 − v0.
+    pub e1: Vec3,
+    /// v2 − v0.
+    pub e2: Vec3,
+}
+
+impl TriangleEdges {
+    /// The edges of `tri`.
+    #[inline]
+    pub fn of(tri: &Triangle) -> Self {
+        let v0 = Vec3::from_array(tri.v0);
+        Self { v0, e1: Vec3::from_array(tri.v1) - v0, e2: Vec3::from_array(tri.v2) - v0 }
+    }
+
+    /// Möller–Trumbore: the distance in (tmin, tmax) at which the ray hits the triangle, or
+    /// [`NO_HIT`]. Both faces are hit; degenerate triangles never are; NaN is never a hit.
+    #[allow(clippy::manual_range_contains)] // explicit comparisons reject NaN on the device too
+    #[inline]
+    pub fn intersect(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> f32 {
+        let pvec = d.cross(self.e2);
+        let det = self.e1.dot(pvec);
+        if !(det.abs() > 0.0) {
+            return NO_HIT;
+        }
+        let inv = 1.0 / det;
+        let tvec = o - self.v0;
+        let u = tvec.dot(pvec) * inv;
+        if !(u >= 0.0 && u <= 1.0) {
+            return NO_HIT;
+        }
+        let qvec = tvec.cross(self.e1);
+        let v = d.dot(qvec) * inv;
+        if !(v >= 0.0 && u + v <= 1.0) {
+            return NO_HIT;
+        }
+        let t = self.e2.dot(qvec) * inv;
+        if t > tmin && t < tmax {
+            t
+        } else {
+            NO_HIT
+        }
+    }
+}
+
+/// The distance in (tmin, tmax) at which the ray hits `tri`, or [`NO_HIT`]
+/// ([`TriangleEdges::intersect`]).
 #[inline]
 pub fn intersect_triangle(tri: &Triangle, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> f32 {
-    let v0 = Vec3::from_array(tri.v0);
-    let e1 = Vec3::from_array(tri.v1) - v0;
-    let e2 = Vec3::from_array(tri.v2) - v0;
-    let pvec = d.cross(e2);
-    let det = e1.dot(pvec);
-    if !(det.abs() > 0.0) {
-        return NO_HIT;
-    }
-    let inv = 1.0 / det;
-    let tvec = o - v0;
-    let u = tvec.dot(pvec) * inv;
-    if !(u >= 0.0 && u <= 1.0) {
-        return NO_HIT;
-    }
-    let qvec = tvec.cross(e1);
-    let v = d.dot(qvec) * inv;
-    if !(v >= 0.0 && u + v <= 1.0) {
-        return NO_HIT;
-    }
-    let t = e2.dot(qvec) * inv;
-    if t > tmin && t < tmax {
-        t
-    } else {
-        NO_HIT
-    }
+    TriangleEdges::of(tri).intersect(o, d, tmin, tmax)
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]

@@ -138,7 +138,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         (None, None) => Budget::MutationsPerPixel(render::DEFAULT_MUTATIONS_PER_PIXEL),
     };
     let device = a.device.open()?;
-    println!("device: {} — {}", device.describe(), device.why);
+    let why = device.why.clone();
     let settings = Settings {
         width: a.width,
         height: height_or_aspect(a.height, a.width, &scene),
@@ -165,6 +165,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Some(gpu) => Box::new(render::gpu::GpuBackend::new(gpu, &scene, &params)?),
         None => Box::new(render::cpu::CpuBackend::new(&scene, &params, device.threads)?),
     };
+    println!("device: {} — {why}", backend.describe());
     let buffers_mib = crate::passes::buffers::device_bytes(&scene, &params) as f64 / 1048576.0;
     println!(
         "rendering {} at {}×{} with {} ({} chains{}, {} candidates per iteration)",

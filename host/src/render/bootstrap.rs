@@ -1,8 +1,9 @@
 //! The bootstrap: independent samples of uniform (u, depth) give the first estimate of the
 //! normalisation b and the chains' start states, drawn in proportion to their targets c.
 //!
-//! It always runs on the host, with the kernel bodies on a thread pool, in a fixed order: it is
-//! a function of the scene and the settings alone, so every shard of a render — on any device,
+//! It always runs on the host, with the kernel bodies on a thread pool, in a fixed order, and
+//! casts its rays through the device's own traversal (`shared::cwbvh`, plain Rust, whatever
+//! host caster the CPU backend uses): it is a function of the scene and the settings alone, so every shard of a render — on any device,
 //! with any thread count, on any machine — computes the very same bootstrap (the part files
 //! carry its moments, and `smlt merge` checks that they agree).
 
@@ -55,7 +56,7 @@ pub fn bootstrap(scene: &SceneData, s: &Settings) -> Result<Bootstrap, RenderErr
                     sample_offset: offset,
                     ..base
                 };
-                CpuBuffers::new(scene, &params).bootstrap(&params)
+                CpuBuffers::new(scene.device_view(), &params).bootstrap(&params)
             })
             .collect::<Vec<Vec<Vec4>>>()
             .concat()

@@ -12,8 +12,11 @@
 use glam::Vec4;
 use rayon::prelude::*;
 use shared::mmlt::{ChainState, RenderParams};
+use shared::ray_caster::RayCaster;
+use shared::scene::Scene;
 
 use super::{Accumulation, Backend, RenderError};
+use crate::caster::HostCaster;
 use crate::passes::buffers::{IterationBuffers, OnHost};
 use crate::passes::{self, Stage};
 use crate::render::gpu::PassTimes;
@@ -22,17 +25,17 @@ use crate::scene::SceneData;
 /// Candidates per group of chains (at least one chain per group).
 pub const GROUP_CANDIDATES: u32 = 128;
 
-/// One group's host buffers (the device's layout, `passes::buffers`) over a scene, and the
-/// stages over them.
-pub struct CpuBuffers<'a> {
-    scene: &'a SceneData,
+/// One group's host buffers (the device's layout, `passes::buffers`) over a scene with its
+/// ray caster, and the stages over them.
+pub struct CpuBuffers<'a, R> {
+    scene: Scene<'a, R>,
     /// What the stages read and write.
     pub iteration: IterationBuffers<OnHost>,
 }
 
-impl<'a> CpuBuffers<'a> {
+impl<'a, R: RayCaster + Sync> CpuBuffers<'a, R> {
     /// Allocates the buffers for `params`.
-    pub fn new(scene: &'a SceneData, params: &RenderParams) -> Self {
+    pub fn new(scene: Scene<'a, R>, params: &RenderParams) -> Self {
         Self { scene, iteration: IterationBuffers::new(&mut OnHost, params) }
     }
 
@@ -40,7 +43,7 @@ impl<'a> CpuBuffers<'a> {
     /// adds the records to `image`, an f64 rgb image).
     pub fn run(&mut self, stage: Stage, params: &RenderParams, image: &mut [f64]) {
         let b = &mut self.iteration;
-        let scene = self.scene.shared();
+        let scene = self.scene;
         match stage {
             Stage::Mutate => {
                 passes::mutate::cpu(params, &b.chains, &b.chain_u, &mut b.cand_u, &mut b.cand_depth)
@@ -80,7 +83,7 @@ struct Group<'a> {
     first: u32,
     /// Chains in the group.
     chains: u32,
-    buffers: CpuBuffers<'a>,
+    buffers: CpuBuffers<'a, HostCaster<'a>>,
 }
 
 /// The dispatch parameters of `chains` chains from `first` on within `params`.
@@ -131,7 +134,7 @@ impl<'a> CpuBackend<'a> {
         let mut first = 0;
         while first < params.chains {
             let chains = per_group.min(params.chains - first);
-            let buffers = CpuBuffers::new(scene, &group_params(params, first, chains));
+            let buffers = CpuBuffers::new(scene.shared(), &group_params(params, first, chains));
             groups.push(Group { first, chains, buffers });
             first += chains;
         }
@@ -243,8 +246,9 @@ impl Backend for CpuBackend<'_> {
     }
 
     fn describe(&self) -> String {
+        let caster = self.groups.first().map_or("-", |g| g.buffers.scene.caster.describe());
         format!(
-            "CPU ({} thread{}; the kernel bodies on the host)",
+            "CPU ({} thread{}; the kernel bodies on the host, rays through {caster})",
             self.threads,
             if self.threads == 1 { "" } else { "s" }
         )

@@ -27,9 +27,11 @@ use shared::cwbvh::{WideBvh, WideNode, WIDE_BVH_STACK_SIZE};
 use shared::light::{light_cdf, LightEntry};
 use shared::mmlt::luminance;
 use shared::scene::Scene;
-use shared::triangle::Triangle;
+use shared::triangle::{Triangle, TriangleEdges};
 
-use crate::caster::HostCaster;
+use std::sync::{Arc, OnceLock};
+
+use crate::caster::{EmbreeScene, HostCaster, ObvhsCaster};
 
 /// Why a scene could not be used.
 #[derive(Debug, thiserror::Error)]
@@ -94,6 +96,12 @@ pub struct SceneData {
     /// The compressed wide BVH over `triangles` (nodes root first; its primitive order is the
     /// triangles' order).
     pub bvh: CwBvh,
+    /// The triangles' vertices and edges, in the same order (what the CPU backend's ray caster
+    /// reads).
+    pub edges: Vec<TriangleEdges>,
+    /// Embree's scene of the triangles, built on the CPU backend's first query where Embree is
+    /// used (None where it is not).
+    pub embree: OnceLock<Option<Arc<EmbreeScene>>>,
     /// Indexed by `Triangle::material`.
     pub materials: Vec<Material>,
     /// The light-selection CDF over emissive triangles.
@@ -125,9 +133,22 @@ pub struct TriangleSoup {
 
 impl SceneData {
     /// The scene as the kernel bodies take it on the CPU backend: ray queries through the
-    /// host's fastest caster.
+    /// host's fastest caster (`crate::caster`).
     pub fn shared(&self) -> Scene<'_, HostCaster<'_>> {
-        self.with_caster(HostCaster { bvh: &self.bvh, triangles: &self.triangles })
+        let embree = self.embree.get_or_init(|| {
+            crate::caster::wants_embree()
+                .then(|| EmbreeScene::new(&self.triangles).ok().map(Arc::new))
+                .flatten()
+        });
+        match embree {
+            Some(e) => self.with_caster(HostCaster::Embree(e)),
+            None => self.obvhs_view(),
+        }
+    }
+
+    /// The scene with ray queries through obvhs's traversal of the device's BVH.
+    pub fn obvhs_view(&self) -> Scene<'_, HostCaster<'_>> {
+        self.with_caster(HostCaster::Obvhs(ObvhsCaster { bvh: &self.bvh, edges: &self.edges }))
     }
 
     /// The scene as the device sees it: ray queries through the shared wide-BVH traversal (on
@@ -240,9 +261,12 @@ impl SceneData {
             }
         }
         let camera = soup.cameras.first().copied().unwrap_or_else(|| default_camera(lo, hi));
+        let edges = triangles.iter().map(TriangleEdges::of).collect();
         Ok(SceneData {
             name: name.into(),
             triangles,
+            edges,
+            embree: OnceLock::new(),
             bvh,
             materials: soup.materials,
             lights,

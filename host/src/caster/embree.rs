@@ -1,0 +1,265 @@
+//! Intel Embree 3 as a ray caster, loaded at run time (`libembree3.so.3`, Debian's
+//! `libembree3-3`), so that smlt builds and runs without it and uses it where it is installed.
+//! Only what a static triangle scene needs is declared: a device, one triangle geometry, one
+//! committed scene, and the single-ray closest-hit and occlusion queries (`rtcIntersect1`,
+//! `rtcOccluded1`), which Embree documents as safe to call from many threads at once.
+//!
+//! Semantics against smlt's (`shared::triangle::TriangleEdges::intersect`): Embree reports
+//! both faces (Debian builds it without back-face culling); it accepts tnear < t ≤ tfar, so the
+//! interval's end is passed as the largest float below tmax; triangles whose edges' cross
+//! product is exactly zero (which smlt never hits) are left out of its geometry, and its
+//! primitive ids map back to smlt's slots. Its triangle test rounds differently (an
+//! approximate reciprocal), so t may differ from the other casters' in the last bits and a ray
+//! through a shared edge may pick the neighbour: `tests/ray_casters.rs` counts both.
+
+use std::ffi::{c_char, c_void};
+use std::sync::OnceLock;
+
+use glam::Vec3;
+use shared::ray_caster::{Hit, NO_HIT};
+use shared::triangle::{Triangle, TriangleEdges};
+
+type Handle = *mut c_void;
+
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Default)]
+struct Ray {
+    org: [f32; 3],
+    tnear: f32,
+    dir: [f32; 3],
+    time: f32,
+    tfar: f32,
+    mask: u32,
+    id: u32,
+    flags: u32,
+}
+
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Default)]
+struct HitRecord {
+    ng: [f32; 3],
+    u: f32,
+    v: f32,
+    prim_id: u32,
+    geom_id: u32,
+    inst_id: [u32; 1],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Default)]
+struct RayHit {
+    ray: Ray,
+    hit: HitRecord,
+}
+
+#[repr(C)]
+struct IntersectContext {
+    flags: u32,
+    filter: *const c_void,
+    inst_id: [u32; 1],
+}
+
+const INVALID_ID: u32 = u32::MAX;
+const GEOMETRY_TYPE_TRIANGLE: u32 = 0;
+const BUFFER_TYPE_INDEX: u32 = 0;
+const BUFFER_TYPE_VERTEX: u32 = 1;
+const FORMAT_UINT3: u32 = 0x5003;
+const FORMAT_FLOAT3: u32 = 0x9003;
+const BUILD_QUALITY_HIGH: u32 = 2;
+
+/// The entry points of the library, resolved once.
+struct Api {
+    new_device: unsafe extern "C" fn(*const c_char) -> Handle,
+    device_error: unsafe extern "C" fn(Handle) -> u32,
+    new_scene: unsafe extern "C" fn(Handle) -> Handle,
+    set_build_quality: unsafe extern "C" fn(Handle, u32),
+    new_geometry: unsafe extern "C" fn(Handle, u32) -> Handle,
+    new_geometry_buffer: unsafe extern "C" fn(Handle, u32, u32, u32, usize, usize) -> *mut c_void,
+    commit_geometry: unsafe extern "C" fn(Handle),
+    attach_geometry: unsafe extern "C" fn(Handle, Handle) -> u32,
+    release_geometry: unsafe extern "C" fn(Handle),
+    commit_scene: unsafe extern "C" fn(Handle),
+    release_scene: unsafe extern "C" fn(Handle),
+    release_device: unsafe extern "C" fn(Handle),
+    intersect1: unsafe extern "C" fn(Handle, *mut IntersectContext, *mut RayHit),
+    occluded1: unsafe extern "C" fn(Handle, *mut IntersectContext, *mut Ray),
+    /// Keeps the library mapped while the entry points are used.
+    _library: libloading::Library,
+}
+
+impl Api {
+    /// The library's entry points, or why it is not there.
+    fn load() -> Result<Api, String> {
+        // SAFETY: loading Embree runs its (and TBB's) initialisers, which have no preconditions;
+        // each symbol is read with the signature of Embree 3's C API (rtcore_*.h).
+        unsafe {
+            let library = libloading::Library::new("libembree3.so.3").map_err(|e| e.to_string())?;
+            macro_rules! entry {
+                ($name:literal) => {
+                    *library.get(concat!($name, "\0").as_bytes()).map_err(|e| format!("{}: {e}", $name))?
+                };
+            }
+            Ok(Api {
+                new_device: entry!("rtcNewDevice"),
+                device_error: entry!("rtcGetDeviceError"),
+                new_scene: entry!("rtcNewScene"),
+                set_build_quality: entry!("rtcSetSceneBuildQuality"),
+                new_geometry: entry!("rtcNewGeometry"),
+                new_geometry_buffer: entry!("rtcSetNewGeometryBuffer"),
+                commit_geometry: entry!("rtcCommitGeometry"),
+                attach_geometry: entry!("rtcAttachGeometry"),
+                release_geometry: entry!("rtcReleaseGeometry"),
+                commit_scene: entry!("rtcCommitScene"),
+                release_scene: entry!("rtcReleaseScene"),
+                release_device: entry!("rtcReleaseDevice"),
+                intersect1: entry!("rtcIntersect1"),
+                occluded1: entry!("rtcOccluded1"),
+                _library: library,
+            })
+        }
+    }
+
+    /// The process's Embree, loaded on first use.
+    fn get() -> Result<&'static Api, &'static str> {
+        static API: OnceLock<Result<Api, String>> = OnceLock::new();
+        API.get_or_init(Api::load).as_ref().map_err(String::as_str)
+    }
+}
+
+/// Whether Embree can be used here, or why not.
+pub fn available() -> Result<(), &'static str> {
+    Api::get().map(|_| ())
+}
+
+/// A committed Embree scene of a scene's triangles.
+pub struct EmbreeScene {
+    api: &'static Api,
+    device: Handle,
+    scene: Handle,
+    /// smlt's triangle slot of each Embree primitive.
+    slots: Vec<u32>,
+}
+
+// SAFETY: a committed scene is never modified again, and Embree documents concurrent ray
+// queries on it from any thread as safe; the handles are released only on drop.
+unsafe impl Send for EmbreeScene {}
+unsafe impl Sync for EmbreeScene {}
+
+impl std::fmt::Debug for EmbreeScene {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "EmbreeScene({} triangles)", self.slots.len())
+    }
+}
+
+impl EmbreeScene {
+    /// Builds Embree's BVH over `triangles` (the scene's, in slot order).
+    pub fn new(triangles: &[Triangle]) -> Result<Self, String> {
+        let api = Api::get()?;
+        let slots: Vec<u32> = (0..triangles.len() as u32)
+            .filter(|&i| {
+                let e = TriangleEdges::of(&triangles[i as usize]);
+                e.e1.cross(e.e2) != Vec3::ZERO
+            })
+            .collect();
+        // SAFETY: every call follows Embree 3's API: the buffers Embree allocates are filled
+        // with exactly the item counts and strides they were created with before the geometry
+        // is committed; every handle is released once.
+        unsafe {
+            let device = (api.new_device)(c"".as_ptr());
+            if device.is_null() {
+                return Err("Embree could not create a device".into());
+            }
+            let scene = (api.new_scene)(device);
+            (api.set_build_quality)(scene, BUILD_QUALITY_HIGH);
+            let geometry = (api.new_geometry)(device, GEOMETRY_TYPE_TRIANGLE);
+            let n = slots.len().max(1);
+            let vertices =
+                (api.new_geometry_buffer)(geometry, BUFFER_TYPE_VERTEX, 0, FORMAT_FLOAT3, 12, n * 3)
+                    as *mut [f32; 3];
+            let indices = (api.new_geometry_buffer)(geometry, BUFFER_TYPE_INDEX, 0, FORMAT_UINT3, 12, n)
+                as *mut [u32; 3];
+            if vertices.is_null() || indices.is_null() {
+                (api.release_geometry)(geometry);
+                (api.release_scene)(scene);
+                (api.release_device)(device);
+                return Err("Embree could not allocate the scene's buffers".into());
+            }
+            for (k, &slot) in slots.iter().enumerate() {
+                let t = &triangles[slot as usize];
+                *vertices.add(3 * k) = t.v0;
+                *vertices.add(3 * k + 1) = t.v1;
+                *vertices.add(3 * k + 2) = t.v2;
+                *indices.add(k) = [3 * k as u32, 3 * k as u32 + 1, 3 * k as u32 + 2];
+            }
+            if slots.is_empty() {
+                // One triangle far away that nothing reaches (Embree wants no empty buffers).
+                *vertices = [f32::MAX; 3];
+                *vertices.add(1) = [f32::MAX; 3];
+                *vertices.add(2) = [f32::MAX; 3];
+                *indices = [0, 1, 2];
+            }
+            (api.commit_geometry)(geometry);
+            (api.attach_geometry)(scene, geometry);
+            (api.release_geometry)(geometry);
+            (api.commit_scene)(scene);
+            let error = (api.device_error)(device);
+            if error != 0 {
+                (api.release_scene)(scene);
+                (api.release_device)(device);
+                return Err(format!("Embree failed to build the scene (error {error})"));
+            }
+            Ok(Self { api, device, scene, slots })
+        }
+    }
+
+    fn context() -> IntersectContext {
+        IntersectContext { flags: 0, filter: std::ptr::null(), inst_id: [INVALID_ID] }
+    }
+
+    fn ray(o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Ray {
+        // Embree accepts t = tfar; smlt's intervals are open.
+        Ray {
+            org: o.to_array(),
+            tnear: tmin,
+            dir: d.to_array(),
+            tfar: tmax.next_down(),
+            mask: u32::MAX,
+            ..Default::default()
+        }
+    }
+
+    /// The closest hit in (tmin, tmax).
+    #[inline]
+    pub fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
+        let mut rayhit = RayHit { ray: Self::ray(o, d, tmin, tmax), hit: HitRecord::default() };
+        rayhit.hit.geom_id = INVALID_ID;
+        rayhit.hit.prim_id = INVALID_ID;
+        let mut context = Self::context();
+        // SAFETY: a committed scene, a context and a ray hit laid out as Embree's.
+        unsafe { (self.api.intersect1)(self.scene, &mut context, &mut rayhit) };
+        if rayhit.hit.geom_id == INVALID_ID {
+            return Hit { t: NO_HIT, triangle: 0 };
+        }
+        Hit { t: rayhit.ray.tfar, triangle: self.slots[rayhit.hit.prim_id as usize] }
+    }
+
+    /// Whether anything blocks the ray in (tmin, tmax).
+    #[inline]
+    pub fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+        let mut ray = Self::ray(o, d, tmin, tmax);
+        let mut context = Self::context();
+        // SAFETY: as for closest_hit; Embree sets tfar to −∞ when the ray is blocked.
+        unsafe { (self.api.occluded1)(self.scene, &mut context, &mut ray) };
+        ray.tfar == f32::NEG_INFINITY
+    }
+}
+
+impl Drop for EmbreeScene {
+    fn drop(&mut self) {
+        // SAFETY: the handles were created by this scene and are released once.
+        unsafe {
+            (self.api.release_scene)(self.scene);
+            (self.api.release_device)(self.device);
+        }
+    }
+}
