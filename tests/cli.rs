@@ -620,3 +620,47 @@ fn shards_merge_into_the_unsplit_image() {
     assert!(!ok && stderr.contains("4/3"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A scene too large for a device's storage buffers (3.07 M triangles: 141 MiB of triangles
+/// against lavapipe's 128 MiB) is refused with one line naming the buffer, its size, the limit
+/// and the way out, and nothing is written; the CPU backend, which has no such limit, is named.
+#[test]
+fn a_scene_beyond_the_device_is_refused_by_name() {
+    let Some(gpu) = common::gpu_or_skip("a_scene_beyond_the_device_is_refused_by_name") else {
+        return;
+    };
+    let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
+    // 120 n² triangles of 48 bytes each: the smallest tessellation past the limit.
+    let n = ((limit as f64 / 48.0 / 120.0).sqrt() as u32 + 1).max(1);
+    if n > 256 {
+        eprintln!("SKIPPED: this device's buffers hold more than the largest generated scene");
+        return;
+    }
+    let dir = temp_dir("too-large");
+    let scene = dir.join("big.gltf");
+    let (ok, _, stderr) =
+        smlt(&["scene", "atrium", "--tessellation", &n.to_string(), "--out", scene.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let out = dir.join("big.exr");
+    let (ok, stdout, stderr) = smlt(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--device",
+        "vulkan",
+        "--mutations-per-pixel",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok, "{stdout}");
+    let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(lines.len(), 1, "{stderr}");
+    assert!(
+        lines[0].contains("the triangles buffer needs")
+            && lines[0].contains("MiB per storage buffer")
+            && lines[0].contains("--device cpu"),
+        "{stderr}"
+    );
+    assert!(!out.exists() && !dir.join("big.png").exists(), "nothing is written");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -116,13 +116,16 @@ pub struct SceneBuffers<S: Storage> {
 }
 
 impl<S: Storage> SceneBuffers<S> {
+    /// The buffers' names, as [`Sizes`] lists them.
+    pub const NAMES: [&'static str; 4] = ["BVH nodes", "triangles", "materials", "lights"];
+
     /// The buffers of `scene`.
     pub fn new(s: &mut S, scene: &SceneData) -> Self {
         Self {
-            nodes: s.copy_of("BVH nodes", scene.wide_nodes()),
-            triangles: s.copy_of("triangles", &scene.triangles),
-            materials: s.copy_of("materials", &scene.materials),
-            lights: s.copy_of("lights", &scene.lights),
+            nodes: s.copy_of(Self::NAMES[0], scene.wide_nodes()),
+            triangles: s.copy_of(Self::NAMES[1], &scene.triangles),
+            materials: s.copy_of(Self::NAMES[2], &scene.materials),
+            lights: s.copy_of(Self::NAMES[3], &scene.lights),
         }
     }
 }

@@ -4,7 +4,7 @@ use shared::mmlt::{ChainState, RenderParams};
 
 use super::{Accumulation, Backend, RenderError};
 use crate::gpu::Gpu;
-use crate::passes::buffers::{buffer_sizes, GpuBuffers, OnDevice};
+use crate::passes::buffers::{buffer_sizes, GpuBuffers, OnDevice, SceneBuffers, Sizes};
 use crate::passes::{Pass, Stage};
 use crate::scene::SceneData;
 use crate::timing::{time_passes, Clock};
@@ -27,9 +27,17 @@ impl GpuBackend {
         let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         for (name, size) in buffer_sizes(scene, params) {
             if size > limit {
+                let remedy = if SceneBuffers::<Sizes>::NAMES.contains(&name) {
+                    format!(
+                        "the scene ({} triangles) is too large for this device: render it with --device cpu",
+                        scene.triangles.len()
+                    )
+                } else {
+                    "lower --candidates, --max-depth or the resolution".to_string()
+                };
                 return Err(RenderError::TooLarge(format!(
                     "the {name} buffer needs {:.1} MiB but the device allows {:.1} MiB per storage buffer \
-                     (max_storage_buffer_binding_size); lower --candidates, --max-depth or the resolution",
+                     (max_storage_buffer_binding_size); {remedy}",
                     size as f64 / 1048576.0,
                     limit as f64 / 1048576.0
                 )));
