@@ -11,6 +11,25 @@ fn smlt(args: &[&str]) -> (bool, String, String) {
     (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), stderr)
 }
 
+/// A tiny render of the default scene on `device` into `out`, as a command to adjust (its
+/// environment) and run.
+fn tiny_render(device: &str, out: &Path) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_smlt"));
+    command.args([
+        "render",
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "--mutations-per-pixel",
+        "2",
+        "--device",
+        device,
+    ]);
+    command.arg("--out").arg(out);
+    command
+}
+
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("smlt-cli-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -55,23 +74,7 @@ fn a_render_without_a_display_prints_no_error() {
             continue;
         }
         let dir = temp_dir(&format!("quiet-{device}"));
-        let out = Command::new(env!("CARGO_BIN_EXE_smlt"))
-            .args([
-                "render",
-                "--width",
-                "8",
-                "--height",
-                "6",
-                "--mutations-per-pixel",
-                "2",
-                "--device",
-                device,
-            ])
-            .arg("--out")
-            .arg(dir.join("q.exr"))
-            .env_remove("XDG_RUNTIME_DIR")
-            .output()
-            .unwrap();
+        let out = tiny_render(device, &dir.join("q.exr")).env_remove("XDG_RUNTIME_DIR").output().unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(out.status.success(), "{stderr}");
         assert!(!stderr.to_lowercase().contains("error"), "{device}: {stderr}");
@@ -85,19 +88,7 @@ fn a_render_without_a_display_prints_no_error() {
 fn the_cpu_backend_names_its_ray_caster() {
     for (caster, expected) in [(None, "Embree 3"), (Some("obvhs"), "obvhs")] {
         let dir = temp_dir(&format!("caster-{expected}").replace(' ', "-"));
-        let mut command = Command::new(env!("CARGO_BIN_EXE_smlt"));
-        command.args([
-            "render",
-            "--width",
-            "8",
-            "--height",
-            "6",
-            "--mutations-per-pixel",
-            "2",
-            "--device",
-            "cpu",
-        ]);
-        command.arg("--out").arg(dir.join("c.exr"));
+        let mut command = tiny_render("cpu", &dir.join("c.exr"));
         if let Some(c) = caster {
             command.env("SMLT_RAY_CASTER", c);
         }

@@ -131,6 +131,28 @@ impl SceneArgs {
     }
 }
 
+/// The image's size (render and reference; the bench has its own, smaller default).
+#[derive(clap::Args, Clone)]
+pub struct ImageArgs {
+    /// Image width in pixels.
+    #[arg(long, default_value_t = render::DEFAULT_WIDTH, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: u32,
+    /// Image height in pixels (default: the width divided by the glTF camera's aspect ratio, or
+    /// the width when the camera has none).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+}
+
+impl ImageArgs {
+    /// The height: as given, else the width over the camera's aspect ratio, else the width.
+    pub fn height(&self, scene: &SceneData) -> u32 {
+        self.height.unwrap_or_else(|| match scene.camera.aspect {
+            Some(aspect) => ((self.width as f32 / aspect).round() as u32).clamp(1, 16384),
+            None => self.width,
+        })
+    }
+}
+
 /// What every estimator of a scene's image shares (render, reference and bench).
 #[derive(clap::Args, Clone)]
 pub struct PathArgs {
@@ -140,15 +162,6 @@ pub struct PathArgs {
     /// Seed of every random number.
     #[arg(long, default_value_t = 1)]
     pub seed: u32,
-}
-
-/// The image height: `height` if given, else the width over the camera's aspect ratio, else
-/// the width.
-pub fn height_or_aspect(height: Option<u32>, width: u32, scene: &SceneData) -> u32 {
-    height.unwrap_or_else(|| match scene.camera.aspect {
-        Some(aspect) => ((width as f32 / aspect).round() as u32).clamp(1, 16384),
-        None => width,
-    })
 }
 
 /// An exposure in stops.

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use indicatif::ProgressBar;
 
-use super::args::{height_or_aspect, DeviceArgs, PathArgs, SceneArgs};
+use super::args::{DeviceArgs, ImageArgs, PathArgs, SceneArgs};
 use crate::reference::{cached_or_render, sidecar, ReferenceSettings};
 
 /// `smlt reference`'s flags.
@@ -17,13 +17,9 @@ pub struct Args {
     /// Samples per pixel.
     #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..=16_777_216))]
     pub spp: u32,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = crate::render::DEFAULT_WIDTH, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub width: u32,
-    /// Image height in pixels (default: the width divided by the glTF camera's aspect ratio, or
-    /// the width when the camera has none).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub height: Option<u32>,
+    #[command(flatten)]
+    #[allow(missing_docs)] // flattened: documented on ImageArgs
+    pub image: ImageArgs,
     #[command(flatten)]
     #[allow(missing_docs)] // flattened: documented on PathArgs
     pub path: PathArgs,
@@ -42,8 +38,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let settings = ReferenceSettings {
         scene: format!("{} view {}", scene.name, a.scene.view),
         scene_hash,
-        width: a.width,
-        height: height_or_aspect(a.height, a.width, &scene),
+        width: a.image.width,
+        height: a.image.height(&scene),
         max_depth: a.path.max_depth,
         spp: a.spp,
         seed: a.path.seed,

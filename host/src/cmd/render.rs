@@ -10,7 +10,7 @@ use std::sync::Arc;
 use indicatif::{ProgressBar, ProgressStyle};
 use shared::mutation::MutationParams;
 
-use super::args::{exposure, height_or_aspect, positive_f64, unit_f32, DeviceArgs, PathArgs, SceneArgs};
+use super::args::{exposure, positive_f64, unit_f32, DeviceArgs, ImageArgs, PathArgs, SceneArgs};
 use crate::output::Exposure;
 use crate::render::{self, Budget, Method, Settings, Shard};
 
@@ -30,13 +30,9 @@ pub struct Args {
     /// Stop after this many candidate paths per pixel (default 64 when --time is absent).
     #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
     pub mutations_per_pixel: Option<f64>,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = render::DEFAULT_WIDTH, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub width: u32,
-    /// Image height in pixels (default: the width divided by the glTF camera's aspect ratio, or
-    /// the width when the camera has none).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub height: Option<u32>,
+    #[command(flatten)]
+    #[allow(missing_docs)] // flattened: documented on ImageArgs
+    pub image: ImageArgs,
     #[command(flatten)]
     #[allow(missing_docs)] // flattened: documented on PathArgs
     pub path: PathArgs,
@@ -140,8 +136,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let device = a.device.open()?;
     let why = device.why.clone();
     let settings = Settings {
-        width: a.width,
-        height: height_or_aspect(a.height, a.width, &scene),
+        width: a.image.width,
+        height: a.image.height(&scene),
         max_depth: a.path.max_depth,
         seed: a.path.seed,
         method: a.method,
