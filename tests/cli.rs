@@ -655,3 +655,75 @@ fn a_scene_beyond_the_device_is_refused_by_name() {
     assert!(!out.exists() && !dir.join("big.png").exists(), "nothing is written");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Malformed scenes, each changed in one place from the default scene (and the measured
+/// Cornell box for its index accessor), are refused with exit 1 and one line naming the glTF
+/// path of the element, before anything is written.
+#[test]
+fn malformed_scenes_are_refused_by_name() {
+    let base: serde_json::Value = serde_json::from_str(include_str!("../scenes/cornell.gltf")).unwrap();
+    let mut cases: Vec<(serde_json::Value, &str)> = Vec::new();
+    let mut edit = |pointer: &str, value: serde_json::Value, expected: &'static str| {
+        let mut doc = base.clone();
+        *doc.pointer_mut(pointer).unwrap() = value;
+        cases.push((doc, expected));
+    };
+    edit("/bufferViews/4/byteLength", serde_json::json!(5000), "bufferViews[4]: byteOffset");
+    edit("/accessors/0/count", serde_json::json!(55), "accessors[0]: 55 elements");
+    edit("/cameras/0/perspective/yfov", serde_json::json!(-1.0), "cameras[0].perspective.yfov: -1 rad");
+    edit("/cameras/0/perspective/yfov", serde_json::json!(3.2), "cameras[0].perspective.yfov: 3.2 rad");
+    edit("/cameras/0/perspective/yfov", serde_json::json!(0.0), "cameras[0].perspective.yfov: 0 rad");
+    edit(
+        "/nodes/5/rotation",
+        serde_json::json!([0.0, 0.0, 0.0, 2.0]),
+        "nodes[5].rotation: the quaternion has length 2",
+    );
+    edit(
+        "/materials/0/pbrMetallicRoughness/baseColorFactor",
+        serde_json::json!([2.0, 0.5, 0.5, 1.0]),
+        "materials[0].pbrMetallicRoughness.baseColorFactor: 2 is outside [0, 1]",
+    );
+    edit(
+        "/materials/3/extensions/KHR_materials_emissive_strength/emissiveStrength",
+        serde_json::json!(-1.0),
+        "emissiveStrength: -1 is not a finite number ≥ 0",
+    );
+    let dir = temp_dir("malformed");
+    let out = dir.join("out.exr");
+    let check = |scene: &Path, expected: &str| {
+        let (ok, _, stderr) =
+            smlt(&["render", scene.to_str().unwrap(), "--device", "cpu", "--out", out.to_str().unwrap()]);
+        assert!(!ok, "{expected}: rendered");
+        let lines: Vec<&str> = stderr.lines().collect();
+        assert_eq!(lines.len(), 1, "{expected}: {stderr}");
+        assert!(
+            lines[0].starts_with("error: malformed glTF") && lines[0].contains(expected),
+            "{expected}: {stderr}"
+        );
+        assert!(!out.exists() && !dir.join("out.png").exists(), "{expected}: nothing is written");
+    };
+    for (i, (doc, expected)) in cases.iter().enumerate() {
+        let scene = dir.join(format!("case{i}.gltf"));
+        std::fs::write(&scene, serde_json::to_vec(doc).unwrap()).unwrap();
+        check(&scene, expected);
+    }
+    // An index accessor whose count runs past its buffer view and is not a multiple of 3.
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes/cornell_box");
+    if shared.exists() {
+        let mut doc: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(shared.join("cornell_box.gltf")).unwrap()).unwrap();
+        let indices = doc["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize;
+        let count = doc["accessors"][indices]["count"].as_u64().unwrap();
+        doc["accessors"][indices]["count"] = serde_json::json!(count + 1);
+        std::fs::copy(shared.join("cornell_box.bin"), dir.join("cornell_box.bin")).unwrap();
+        let scene = dir.join("indices.gltf");
+        std::fs::write(&scene, serde_json::to_vec(&doc).unwrap()).unwrap();
+        check(&scene, &format!("accessors[{indices}]"));
+        doc["accessors"][indices]["count"] = serde_json::json!(count - 1);
+        std::fs::write(&scene, serde_json::to_vec(&doc).unwrap()).unwrap();
+        check(&scene, "not a multiple of 3");
+    } else {
+        assert_ne!(std::env::var("CI").as_deref(), Ok("true"), "CI=true and no {}", shared.display());
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -250,3 +250,70 @@ fn the_error_of_b_falls_as_one_over_root_samples() {
     assert!(predicted > 1.8, "the long render has about 4× the samples");
     assert!((measured / predicted - 1.0).abs() < 0.15, "{measured} vs {predicted}");
 }
+
+/// A part changed after it was written is refused by name: one digit of its JSON header (its
+/// iteration count), or bytes of its stored sums; parts of different smlt versions or kernel
+/// modules do not merge.
+#[test]
+fn a_part_changed_after_it_was_written_is_refused() {
+    let scene = cornell();
+    let mut s = settings("naive", Shard { index: 1, count: 2 });
+    s.width = 8;
+    s.height = 6;
+    let r = render_cpu(&scene, &s, 1);
+    let dir = temp_dir("damaged");
+    let path = dir.join("part.exr");
+    write_part(&path, &Identity::new(&scene.name, "hash", 1, &s), s.shard, &r, "test").unwrap();
+    let good = std::fs::read(&path).unwrap();
+    assert!(read_part(&path).is_ok());
+    // One digit of the header.
+    let key = format!("\"iterations\":{}", r.stats.iterations);
+    let at = good.windows(key.len()).position(|w| w == key.as_bytes()).expect("the header is in the file");
+    let mut edited = good.clone();
+    let digit = at + key.len() - 1;
+    edited[digit] = if edited[digit] == b'9' { b'8' } else { edited[digit] + 1 };
+    std::fs::write(&path, &edited).unwrap();
+    let err = read_part(&path).unwrap_err().to_string();
+    assert!(err.contains("damaged part file") && err.contains("checksum does not match"), "{err}");
+    assert!(!err.contains('\n'));
+    // Bytes of the pixel data (after the header): refused, as damaged or as unreadable.
+    let data = good.len() - 64;
+    let mut refused = 0;
+    for offset in [0, 7, 19, 33] {
+        let mut flipped = good.clone();
+        flipped[data + offset] ^= 0x5a;
+        std::fs::write(&path, &flipped).unwrap();
+        match read_part(&path) {
+            Err(PartError::Damaged(..)) | Err(PartError::Read(..)) => refused += 1,
+            Err(e) => panic!("{e}"),
+            Ok(p) => assert_eq!(
+                p.accumulation,
+                read_part_bytes(&good, &dir).accumulation,
+                "a flip that changes nothing"
+            ),
+        }
+    }
+    assert!(refused >= 3, "{refused} of 4 flipped files refused");
+    // Another smlt version, another kernels module.
+    std::fs::write(&path, &good).unwrap();
+    let one = read_part(&path).unwrap();
+    for (field, change) in [("smlt version", 0), ("kernels", 1)] {
+        let mut other = one.clone();
+        other.shard = 2;
+        if change == 0 {
+            other.identity.smlt_version = "0.0.9".into();
+        } else {
+            other.identity.kernels = "0000000000000000".into();
+        }
+        let err = merge(&[one.clone(), other]).unwrap_err().to_string();
+        assert!(err.contains("different renders") && err.contains(field), "{field}: {err}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The part held in `bytes`, read through a file in `dir`.
+fn read_part_bytes(bytes: &[u8], dir: &std::path::Path) -> smlt::part::Part {
+    let path = dir.join("copy.exr");
+    std::fs::write(&path, bytes).unwrap();
+    read_part(&path).unwrap()
+}

@@ -4,10 +4,12 @@
 //! (to look at); the exact f64 splat sums S are stored bit for bit as two `u32` channels per
 //! colour (`S.R.hi`, `S.R.lo`, …); a layer attribute `smltPart` holds, as JSON, everything
 //! else a merge needs: the render's identity (scene and its hash, view, resolution, depth,
-//! seed, method, chain count, bootstrap, mutation schedule, budget, shard count), the shard
+//! seed, method, chain count, bootstrap, mutation schedule, budget, shard count, the smlt
+//! version and the kernels module's hash), the shard
 //! index, W, the acceptance and NaN/Inf tallies, the candidates traced, and the moments of the
 //! bootstrap's and the large steps' targets (f64 values as their bit patterns, so nothing is
-//! rounded on the way). Merging adds the accumulations in shard order and normalises once:
+//! rounded on the way), and a checksum over the header and the sums: a part changed after it was
+//! written (a digit of its JSON edited, a bit of a sum flipped) is refused by name. Merging adds the accumulations in shard order and normalises once:
 //! the image the unsplit render gives, up to f64 rounding.
 
 use std::collections::HashMap;
@@ -19,7 +21,7 @@ use shared::normalisation::Moments;
 use crate::render::{Accumulation, Rendered, Settings, Shard, Stats};
 
 /// The `format` value of a part written by this version.
-pub const FORMAT: &str = "smlt-part-2";
+pub const FORMAT: &str = "smlt-part-3";
 /// The layer attribute holding the part's JSON.
 const ATTRIBUTE: &str = "smltPart";
 
@@ -56,6 +58,10 @@ pub struct Identity {
     pub budget: String,
     /// Shards the render was split into.
     pub shard_count: u32,
+    /// The smlt version that rendered it.
+    pub smlt_version: String,
+    /// The content hash of the kernels module it ran (`crate::hash`).
+    pub kernels: String,
 }
 
 impl Identity {
@@ -80,6 +86,8 @@ impl Identity {
                 crate::render::Budget::MutationsPerPixel(m) => format!("mpp {m}"),
             },
             shard_count: s.shard.count,
+            smlt_version: env!("CARGO_PKG_VERSION").to_string(),
+            kernels: crate::hash::content_hash(crate::gpu::KERNELS_SPV),
         }
     }
 
@@ -104,6 +112,8 @@ impl Identity {
             "p_large",
             "budget",
             "shard_count",
+            "smlt_version",
+            "kernels",
         ];
         names.iter().find(|n| a.get(**n) != b.get(**n)).map(|n| {
             let label = n.replace('_', " ");
@@ -165,6 +175,18 @@ struct Header {
     candidates: u64,
     large_steps: ExactMoments,
     bootstrap: ExactMoments,
+    /// FNV-1a of this header (with the checksum empty) and of the sums' bits: a part that was
+    /// changed after it was written is refused.
+    checksum: String,
+}
+
+impl Header {
+    /// The checksum of this header and `sums` (the checksum field itself left out).
+    fn checksum(&self, sums: &[f64]) -> Result<String, serde_json::Error> {
+        let mut bytes = serde_json::to_vec(&Header { checksum: String::new(), ..self.clone() })?;
+        bytes.extend(sums.iter().flat_map(|s| s.to_bits().to_le_bytes()));
+        Ok(crate::hash::content_hash(&bytes))
+    }
 }
 
 /// A part read back.
@@ -257,7 +279,9 @@ pub fn write_part(
         candidates: r.accumulation.candidates,
         large_steps: r.accumulation.large_steps.into(),
         bootstrap: r.bootstrap.into(),
+        checksum: String::new(),
     };
+    let header = Header { checksum: header.checksum(&r.accumulation.image).map_err(|e| fail(&e))?, ..header };
     let json = serde_json::to_string(&header).map_err(|e| fail(&e))?;
     let pixels = (r.width * r.height) as usize;
     let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
@@ -329,6 +353,11 @@ pub fn read_part(path: &Path) -> Result<Part, PartError> {
         for p in 0..pixels {
             sums[p * 3 + i] = f64::from_bits(((hi[p] as u64) << 32) | lo[p] as u64);
         }
+    }
+    if header.checksum(&sums).map_err(|e| damaged(&e.to_string()))? != header.checksum {
+        return Err(damaged(
+            "its checksum does not match its header and sums: it was changed after it was written",
+        ));
     }
     if header.shard == 0 || header.shard > id.shard_count {
         return Err(damaged(&format!("shard {} of {}", header.shard, id.shard_count)));

@@ -76,10 +76,14 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
 
 /// estimated reference RMSE and the smallest final RMSE of any method.
 pub fn reference_table(b: &BenchSettings, rows: &[Row], noises: &[(String, u32, Option<f64>)]) -> String {
+    let source = match &b.reference {
+        Some(path) => format!("external: {}, not rendered by this bench", path.display()),
+        None => format!("{} spp", b.reference_spp),
+    };
     let mut out = format!(
-        "### References ({} spp; noise = estimated RMSE of the reference itself)\n\n\
+        "### References ({source}; noise = estimated RMSE of the reference itself)\n\n\
          | scene view | reference noise | smallest method RMSE after {} s | ratio |\n|---|---|---|---|\n",
-        b.reference_spp, b.seconds
+        b.seconds
     );
     for (scene, view, noise) in noises {
         let best = b
@@ -95,4 +99,41 @@ pub fn reference_table(b: &BenchSettings, rows: &[Row], noises: &[(String, u32, 
     }
     out.push('\n');
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::Method;
+
+    /// The references' table says where the reference came from: rendered at its spp, or an
+    /// external file the bench did not render (whose own noise it does not know).
+    #[test]
+    fn the_reference_table_names_an_external_reference() {
+        let mut b = BenchSettings {
+            scenes: vec![("cornell".into(), 1)],
+            methods: vec![Method::Tree(1)],
+            seconds: 2.0,
+            width: 4,
+            height: 4,
+            max_depth: 3,
+            seed: 1,
+            reference_spp: 512,
+            candidates: None,
+            tessellation: 1,
+            threads: 1,
+            repeats: 1,
+            reference: None,
+            out: "out".into(),
+        };
+        let noises = [("cornell".to_string(), 1, Some(0.01))];
+        assert!(reference_table(&b, &[], &noises).contains("### References (512 spp;"));
+        b.reference = Some("mine.exr".into());
+        let table = reference_table(&b, &[], &[("cornell".to_string(), 1, None)]);
+        assert!(
+            table.contains("external: mine.exr, not rendered by this bench") && !table.contains("512 spp"),
+            "{table}"
+        );
+        assert!(table.contains("| cornell v1 | — |"), "{table}");
+    }
 }

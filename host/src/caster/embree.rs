@@ -228,9 +228,20 @@ impl EmbreeScene {
         }
     }
 
+    /// Whether Embree takes the ray: finite, within its ±1.8e18, tmin ≥ 0 and below tmax (a
+    /// ray it would not take hits nothing, as smlt's NaN rays do; its debug builds abort on one).
+    #[inline]
+    fn takes(o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+        const LARGE: f32 = 1e18;
+        o.abs().max_element() <= LARGE && d.abs().max_element() <= LARGE && tmin >= 0.0 && tmin < tmax
+    }
+
     /// The closest hit in (tmin, tmax).
     #[inline]
     pub fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
+        if !Self::takes(o, d, tmin, tmax) {
+            return Hit { t: NO_HIT, triangle: 0 };
+        }
         let mut rayhit = RayHit { ray: Self::ray(o, d, tmin, tmax), hit: HitRecord::default() };
         rayhit.hit.geom_id = INVALID_ID;
         rayhit.hit.prim_id = INVALID_ID;
@@ -246,6 +257,9 @@ impl EmbreeScene {
     /// Whether anything blocks the ray in (tmin, tmax).
     #[inline]
     pub fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+        if !Self::takes(o, d, tmin, tmax) {
+            return false;
+        }
         let mut ray = Self::ray(o, d, tmin, tmax);
         let mut context = Self::context();
         // SAFETY: as for closest_hit; Embree sets tfar to −∞ when the ray is blocked.

@@ -16,6 +16,7 @@
 //!   larger side fills the view.
 
 mod read;
+mod validate;
 
 pub use read::{files_hash, read_document, PHONG_EXPONENT_KEY};
 
@@ -50,6 +51,15 @@ pub enum SceneError {
         /// The scene's name for messages: its file path, or a built-in scene's name.
         path: String,
         /// The unsupported content, in words.
+        what: String,
+    },
+    /// The file breaks the glTF specification (an accessor past its buffer view, a camera's
+    /// field of view out of range, …): `what` names the element by its glTF path.
+    #[error("malformed glTF {path}: {what}")]
+    Malformed {
+        #[allow(missing_docs)] // the scene's path
+        path: String,
+        #[allow(missing_docs)] // the element and what is wrong with it
         what: String,
     },
     /// No triangles at all.

@@ -11,6 +11,10 @@ use super::{CameraSpec, SceneData, SceneError, TriangleSoup};
 /// The material-extras key holding the Phong exponent, e.g. `"extras": {"smlt_phong_exponent": 1e5}`.
 pub const PHONG_EXPONENT_KEY: &str = "smlt_phong_exponent";
 
+/// The largest world-space coordinate a scene may have (Embree refuses rays beyond 1.8e18; a
+/// scene this large has lost every digit a path needs anyway).
+pub const MAX_COORDINATE: f32 = 1e15;
+
 impl SceneData {
     /// Loads a glTF (.gltf or .glb) file.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
@@ -18,24 +22,91 @@ impl SceneData {
         if path.is_dir() {
             return Err(SceneError::Load { path: name, reason: "is a directory, not a glTF file".into() });
         }
-        let (doc, buffers, _images) = gltf::import(path).map_err(|e| {
+        if let Ok(bytes) = std::fs::read(path) {
+            precheck(&bytes, &name)?;
+        }
+        let (doc, buffers, _images) = guarded(&name, || gltf::import(path))?.map_err(|e| {
             let reason = match (&e, missing_resource(path)) {
                 (gltf::Error::Io(_), Some(uri)) => format!("the file it refers to, '{uri}', does not exist"),
                 _ => e.to_string(),
             };
             SceneError::Load { path: name.clone(), reason }
         })?;
+        check(&doc, &buffers, &name)?;
         let soup = read_document(&doc, &buffers, &name)?;
         Self::from_soup(soup, &name)
     }
 
     /// Loads a glTF document held in memory (a .gltf with data URIs, or a .glb).
     pub fn from_slice(bytes: &[u8], name: &str) -> Result<Self, SceneError> {
-        let (doc, buffers, _images) = gltf::import_slice(bytes)
+        precheck(bytes, name)?;
+        let (doc, buffers, _images) = guarded(name, || gltf::import_slice(bytes))?
             .map_err(|e| SceneError::Load { path: name.into(), reason: e.to_string() })?;
+        check(&doc, &buffers, name)?;
         let soup = read_document(&doc, &buffers, name)?;
         Self::from_soup(soup, name)
     }
+}
+
+/// Runs the gltf crate's `import` on `f`, turning a panic inside it (seen: its validation
+/// indexes `accessors` with a primitive's POSITION before checking it) into an error.
+/// The panic's own report is held back meanwhile, so that the error is the one line it makes
+/// (imports take turns, as the report hook is the process's).
+fn guarded<T>(name: &str, f: impl FnOnce() -> T) -> Result<T, SceneError> {
+    static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = TURN.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let report = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    std::panic::set_hook(report);
+    result.map_err(|panic| {
+        let message = panic
+            .downcast_ref::<String>()
+            .cloned()
+            .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_default();
+        SceneError::Malformed { path: name.into(), what: format!("the glTF reader failed on it ({message})") }
+    })
+}
+
+/// What must hold before the gltf crate reads a document at all (its validation indexes the
+/// accessors with a primitive's POSITION unchecked): read from the JSON of a `.gltf` or of a
+/// `.glb`'s JSON chunk. A document that is not JSON is left to the gltf crate to refuse.
+fn precheck(bytes: &[u8], name: &str) -> Result<(), SceneError> {
+    let json: Option<serde_json::Value> = if bytes.starts_with(b"glTF") && bytes.len() >= 20 {
+        let length = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]) as usize;
+        bytes.get(20..20usize.saturating_add(length)).and_then(|j| serde_json::from_slice(j).ok())
+    } else {
+        serde_json::from_slice(bytes).ok()
+    };
+    let Some(json) = json else { return Ok(()) };
+    let accessors = json.get("accessors").and_then(|a| a.as_array()).map_or(0, Vec::len) as u64;
+    let meshes = json.get("meshes").and_then(|m| m.as_array()).map(Vec::as_slice).unwrap_or(&[]);
+    for (m, mesh) in meshes.iter().enumerate() {
+        let primitives = mesh.get("primitives").and_then(|p| p.as_array()).map(Vec::as_slice).unwrap_or(&[]);
+        for (p, prim) in primitives.iter().enumerate() {
+            if let Some(k) = prim.get("attributes").and_then(|a| a.get("POSITION")) {
+                if !k.as_u64().is_some_and(|k| k < accessors) {
+                    return Err(SceneError::Malformed {
+                        path: name.into(),
+                        what: format!(
+                            "meshes[{m}].primitives[{p}].attributes.POSITION: accessor {k} does not exist"
+                        ),
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The structural checks of `super::validate` on a loaded document.
+fn check(doc: &gltf::Document, buffers: &[gltf::buffer::Data], name: &str) -> Result<(), SceneError> {
+    let json = serde_json::to_value(doc.as_json())
+        .map_err(|e| SceneError::Load { path: name.into(), reason: e.to_string() })?;
+    let lengths: Vec<usize> = buffers.iter().map(|b| b.0.len()).collect();
+    super::validate::validate(&json, &lengths)
+        .map_err(|what| SceneError::Malformed { path: name.into(), what })
 }
 
 /// The first buffer or image URI of the glTF at `path` (a readable file) whose file is
@@ -153,8 +224,21 @@ pub fn read_document(
                     gltf::camera::Projection::Perspective(p) => {
                         let forward = (world * glam::Vec4::new(0.0, 0.0, -1.0, 0.0)).xyz().normalize();
                         let up = (world * glam::Vec4::new(0.0, 1.0, 0.0, 0.0)).xyz().normalize();
+                        let position = (world * glam::Vec4::W).xyz();
+                        if !(position.abs().max_element() <= MAX_COORDINATE
+                            && forward.is_finite()
+                            && up.is_finite())
+                        {
+                            return Err(SceneError::Malformed {
+                                path: name.into(),
+                                what: format!(
+                                    "nodes[{}]: the camera's world transform is degenerate or beyond ±{MAX_COORDINATE:e}",
+                                    node.index()
+                                ),
+                            });
+                        }
                         soup.cameras.push(CameraSpec {
-                            position: (world * glam::Vec4::W).xyz(),
+                            position,
                             forward,
                             up: (up - forward * up.dot(forward)).normalize(),
                             yfov: p.yfov(),
@@ -183,14 +267,23 @@ pub fn read_document(
                     });
                 }
                 let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-                let positions: Vec<Vec3> = reader
+                let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
+                let malformed = |what: String| SceneError::Malformed { path: name.into(), what };
+                let local: Vec<[f32; 3]> = reader
                     .read_positions()
-                    .ok_or_else(|| SceneError::Unsupported {
-                        path: name.into(),
-                        what: format!("mesh {} has a primitive without POSITION", mesh.index()),
-                    })?
-                    .map(|p| world.transform_point3(Vec3::from_array(p)))
+                    .ok_or_else(|| malformed(format!("{at}: no POSITION accessor")))?
                     .collect();
+                if let Some(i) = local.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+                    return Err(malformed(format!("{at}: POSITION {i} is not finite: {:?}", local[i])));
+                }
+                let positions: Vec<Vec3> =
+                    local.iter().map(|p| world.transform_point3(Vec3::from_array(*p))).collect();
+                if let Some(i) = positions.iter().position(|p| !(p.abs().max_element() <= MAX_COORDINATE)) {
+                    return Err(malformed(format!(
+                        "{at}: POSITION {i} lies at {} after the node transforms, beyond ±{MAX_COORDINATE:e}",
+                        positions[i]
+                    )));
+                }
                 let indices: Vec<u32> = match reader.read_indices() {
                     Some(i) => i.into_u32().collect(),
                     None => (0..positions.len() as u32).collect(),
@@ -200,9 +293,11 @@ pub fn read_document(
                 for tri in triples {
                     let mut v = [Vec3::ZERO; 3];
                     for (k, &i) in tri.iter().enumerate() {
-                        v[k] = *positions.get(i as usize).ok_or_else(|| SceneError::Unsupported {
-                            path: name.into(),
-                            what: format!("mesh {} indexes vertex {i} of {}", mesh.index(), positions.len()),
+                        v[k] = *positions.get(i as usize).ok_or_else(|| {
+                            malformed(format!(
+                                "{at}.indices: index {i} is not below the {} vertices",
+                                positions.len()
+                            ))
                         })?;
                     }
                     // A mirroring transform flips the winding; keep the normal's sense.

@@ -1,0 +1,287 @@
+//! Structural validation of a glTF document before anything reads it, the way the Khronos
+//! glTF validator reads a file: every buffer view within its buffer, every accessor within its
+//! buffer view (stride included), index counts a multiple of 3, camera and node values in the
+//! ranges the specification gives, material factors in [0, 1], a finite emission strength.
+//! The first problem is returned as one line naming the element by its glTF path
+//! (`accessors[3]`, `nodes[1].rotation`). What is checked while the triangles are read (indices
+//! below the vertex count, finite positions) is in the reader.
+
+use serde_json::Value;
+
+/// Checks `root` (the document's JSON) against `buffers` (the bytes each buffer holds).
+pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
+    let list = |key: &str| root.get(key).and_then(Value::as_array).map(Vec::as_slice).unwrap_or(&[]);
+    let buffer_lengths: Vec<u64> = list("buffers")
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let declared = uint(b, "byteLength", &format!("buffers[{i}]"))?.unwrap_or(0);
+            let held = buffers.get(i).copied().unwrap_or(0) as u64;
+            if declared > held {
+                return Err(format!(
+                    "buffers[{i}]: byteLength is {declared} but the buffer holds {held} bytes"
+                ));
+            }
+            Ok(declared)
+        })
+        .collect::<Result<_, _>>()?;
+    let mut views = Vec::new();
+    for (i, v) in list("bufferViews").iter().enumerate() {
+        let at = format!("bufferViews[{i}]");
+        let buffer = uint(v, "buffer", &at)?.ok_or(format!("{at}: no buffer"))?;
+        let length =
+            *buffer_lengths.get(buffer as usize).ok_or(format!("{at}: buffer {buffer} does not exist"))?;
+        let offset = uint(v, "byteOffset", &at)?.unwrap_or(0);
+        let size = uint(v, "byteLength", &at)?.ok_or(format!("{at}: no byteLength"))?;
+        if offset.saturating_add(size) > length {
+            return Err(format!(
+                "{at}: byteOffset {offset} + byteLength {size} runs past the end of buffers[{buffer}] ({length} bytes)"
+            ));
+        }
+        let stride = uint(v, "byteStride", &at)?;
+        if let Some(s) = stride {
+            if !(4..=252).contains(&s) || s % 4 != 0 {
+                return Err(format!("{at}: byteStride {s} is not a multiple of 4 in 4..=252"));
+            }
+        }
+        views.push((size, stride));
+    }
+    let accessors = list("accessors");
+    let mut counts = Vec::new();
+    for (i, a) in accessors.iter().enumerate() {
+        let at = format!("accessors[{i}]");
+        if a.get("sparse").is_some() {
+            return Err(format!("{at}: sparse accessors are not supported"));
+        }
+        let count = uint(a, "count", &at)?.ok_or(format!("{at}: no count"))?;
+        if count == 0 {
+            return Err(format!("{at}: count is 0"));
+        }
+        let component = match uint(a, "componentType", &at)? {
+            Some(5120 | 5121) => 1,
+            Some(5122 | 5123) => 2,
+            Some(5125 | 5126) => 4,
+            other => return Err(format!("{at}: componentType {other:?} is not a glTF component type")),
+        };
+        let components = match a.get("type").and_then(Value::as_str) {
+            Some("SCALAR") => 1,
+            Some("VEC2") => 2,
+            Some("VEC3") => 3,
+            Some("VEC4") | Some("MAT2") => 4,
+            Some("MAT3") => 9,
+            Some("MAT4") => 16,
+            other => return Err(format!("{at}: type {other:?} is not a glTF accessor type")),
+        };
+        let element = component * components;
+        if let Some(view) = uint(a, "bufferView", &at)? {
+            let (size, stride) =
+                *views.get(view as usize).ok_or(format!("{at}: bufferView {view} does not exist"))?;
+            let offset = uint(a, "byteOffset", &at)?.unwrap_or(0);
+            if offset % component != 0 {
+                return Err(format!(
+                    "{at}: byteOffset {offset} is not a multiple of its component size {component}"
+                ));
+            }
+            let stride = stride.unwrap_or(element);
+            let end = (offset as u128) + (stride as u128) * (count as u128 - 1) + element as u128;
+            if end > size as u128 {
+                return Err(format!(
+                    "{at}: {count} elements of {element} bytes (stride {stride}) from byteOffset {offset} run past \
+                     the end of bufferViews[{view}] ({size} bytes)"
+                ));
+            }
+        }
+        counts.push((count, component, components, a.get("componentType").and_then(Value::as_u64)));
+    }
+    for (m, mesh) in list("meshes").iter().enumerate() {
+        let primitives = mesh.get("primitives").and_then(Value::as_array).map(Vec::as_slice).unwrap_or(&[]);
+        for (p, prim) in primitives.iter().enumerate() {
+            let at = format!("meshes[{m}].primitives[{p}]");
+            if uint(prim, "mode", &at)?.unwrap_or(4) != 4 {
+                continue; // the reader refuses modes other than TRIANGLES
+            }
+            let position = prim.get("attributes").and_then(|a| a.get("POSITION")).and_then(Value::as_u64);
+            let vertices = match position.and_then(|k| counts.get(k as usize)) {
+                Some(&(count, 4, 3, Some(5126))) => count,
+                Some(_) => return Err(format!("{at}: POSITION must be a VEC3 of floats")),
+                None => return Err(format!("{at}: no POSITION accessor")),
+            };
+            match uint(prim, "indices", &at)? {
+                Some(k) => {
+                    let &(count, _, components, kind) = counts
+                        .get(k as usize)
+                        .ok_or(format!("{at}.indices: accessors[{k}] does not exist"))?;
+                    if components != 1 || !matches!(kind, Some(5121 | 5123 | 5125)) {
+                        return Err(format!("{at}.indices: accessors[{k}] must be unsigned integer scalars"));
+                    }
+                    if count % 3 != 0 {
+                        return Err(format!(
+                            "{at}.indices: accessors[{k}] holds {count} indices, not a multiple of 3 (triangles)"
+                        ));
+                    }
+                }
+                None if vertices % 3 != 0 => {
+                    return Err(format!(
+                        "{at}: {vertices} vertices without indices, not a multiple of 3 (triangles)"
+                    ))
+                }
+                None => {}
+            }
+        }
+    }
+    for (n, node) in list("nodes").iter().enumerate() {
+        let at = format!("nodes[{n}]");
+        for (key, len) in [("translation", 3), ("rotation", 4), ("scale", 3), ("matrix", 16)] {
+            if let Some(v) = node.get(key) {
+                let values = numbers(v, len).ok_or(format!("{at}.{key}: not {len} finite numbers"))?;
+                if key == "rotation" {
+                    let norm = values.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    if (norm - 1.0).abs() > 1e-3 {
+                        return Err(format!(
+                            "{at}.rotation: the quaternion has length {}, not 1",
+                            norm as f32
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    for (c, camera) in list("cameras").iter().enumerate() {
+        if let Some(p) = camera.get("perspective") {
+            let at = format!("cameras[{c}].perspective");
+            let yfov = number(p, "yfov", &at)?.ok_or(format!("{at}: no yfov"))?;
+            if !(yfov > 0.0 && yfov < std::f64::consts::PI) {
+                return Err(format!("{at}.yfov: {} rad is not in (0, π)", yfov as f32));
+            }
+            if let Some(aspect) = number(p, "aspectRatio", &at)? {
+                if !(aspect > 0.0) {
+                    return Err(format!("{at}.aspectRatio: {} is not positive", aspect as f32));
+                }
+            }
+            if let Some(znear) = number(p, "znear", &at)? {
+                if !(znear > 0.0) {
+                    return Err(format!("{at}.znear: {} is not positive", znear as f32));
+                }
+            }
+        }
+    }
+    for (m, material) in list("materials").iter().enumerate() {
+        let at = format!("materials[{m}]");
+        let base = material.get("pbrMetallicRoughness").and_then(|p| p.get("baseColorFactor"));
+        for (key, v, len) in [
+            ("pbrMetallicRoughness.baseColorFactor", base, 4),
+            ("emissiveFactor", material.get("emissiveFactor"), 3),
+        ] {
+            if let Some(v) = v {
+                let values = numbers(v, len).ok_or(format!("{at}.{key}: not {len} finite numbers"))?;
+                if let Some(x) = values.iter().find(|x| !(0.0..=1.0).contains(*x)) {
+                    return Err(format!(
+                        "{at}.{key}: {} is outside [0, 1] (glTF bounds it; an albedo above 1 makes energy)",
+                        *x as f32
+                    ));
+                }
+            }
+        }
+        if let Some(s) = material.get("extensions").and_then(|e| e.get("KHR_materials_emissive_strength")) {
+            let at = format!("{at}.extensions.KHR_materials_emissive_strength");
+            let strength = number(s, "emissiveStrength", &at)?.unwrap_or(1.0);
+            if !(strength >= 0.0) {
+                return Err(format!("{at}.emissiveStrength: {} is not a finite number ≥ 0", strength as f32));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// An optional unsigned integer member.
+fn uint(v: &Value, key: &str, at: &str) -> Result<Option<u64>, String> {
+    match v.get(key) {
+        None => Ok(None),
+        Some(x) => x.as_u64().map(Some).ok_or(format!("{at}.{key}: {x} is not an unsigned integer")),
+    }
+}
+
+/// An optional finite number member.
+fn number(v: &Value, key: &str, at: &str) -> Result<Option<f64>, String> {
+    match v.get(key) {
+        None => Ok(None),
+        Some(x) => x
+            .as_f64()
+            .filter(|f| f.is_finite())
+            .map(Some)
+            .ok_or(format!("{at}.{key}: {x} is not a finite number")),
+    }
+}
+
+/// `len` finite numbers, or None.
+fn numbers(v: &Value, len: usize) -> Option<Vec<f64>> {
+    let a = v.as_array()?;
+    let values: Vec<f64> = a.iter().filter_map(Value::as_f64).filter(|x| x.is_finite()).collect();
+    (a.len() == len && values.len() == len).then_some(values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn doc() -> Value {
+        json!({
+            "buffers": [{"byteLength": 48}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 12}],
+            "accessors": [
+                {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}
+            ],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+            "nodes": [{"mesh": 0, "rotation": [0, 0, 0, 1]}],
+            "cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.01}}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1]}, "emissiveFactor": [1, 1, 1]}]
+        })
+    }
+
+    /// A well-formed document passes; each single wrong value is named by its path.
+    #[test]
+    fn each_problem_is_named_by_its_path() {
+        assert_eq!(validate(&doc(), &[48]), Ok(()));
+        let cases: [(&str, Value, &str); 12] = [
+            ("/buffers/0/byteLength", json!(4800), "buffers[0]: byteLength is 4800"),
+            (
+                "/bufferViews/1/byteOffset",
+                json!(40),
+                "bufferViews[1]: byteOffset 40 + byteLength 12 runs past",
+            ),
+            ("/accessors/1/count", json!(4), "accessors[1]: 4 elements"),
+            ("/accessors/0/byteOffset", json!(2), "accessors[0]: byteOffset 2 is not a multiple"),
+            ("/accessors/0/count", json!(4_000_000_000_u64), "accessors[0]: 4000000000 elements"),
+            ("/bufferViews/0/byteStride", json!(7), "bufferViews[0]: byteStride 7"),
+            ("/nodes/0/rotation", json!([0, 0, 0, 2]), "nodes[0].rotation: the quaternion has length 2"),
+            ("/cameras/0/perspective/yfov", json!(-1), "cameras[0].perspective.yfov: -1"),
+            ("/cameras/0/perspective/yfov", json!(3.2), "not in (0, π)"),
+            ("/cameras/0/perspective/aspectRatio", json!(0), "aspectRatio: 0 is not positive"),
+            (
+                "/materials/0/pbrMetallicRoughness/baseColorFactor",
+                json!([2, 1, 1, 1]),
+                "baseColorFactor: 2 is outside [0, 1]",
+            ),
+            ("/materials/0/emissiveFactor", json!([1, -1, 1]), "emissiveFactor: -1 is outside [0, 1]"),
+        ];
+        for (pointer, value, expected) in cases {
+            let mut d = doc();
+            let (parent, key) = pointer.rsplit_once('/').unwrap();
+            d.pointer_mut(parent).unwrap()[key] = value;
+            let err = validate(&d, &[48]).expect_err(pointer);
+            assert!(err.contains(expected), "{pointer}: {err}");
+            assert!(!err.contains('\n'));
+        }
+        let mut d = doc();
+        d["accessors"][1]["count"] = json!(2);
+        d["bufferViews"][1]["byteLength"] = json!(12);
+        assert!(validate(&d, &[48]).unwrap_err().contains("2 indices, not a multiple of 3"));
+        assert!(validate(&doc(), &[40]).unwrap_err().contains("the buffer holds 40 bytes"));
+        let mut d = doc();
+        d["materials"][0]["extensions"] =
+            json!({"KHR_materials_emissive_strength": {"emissiveStrength": -2}});
+        assert!(validate(&d, &[48]).unwrap_err().contains("emissiveStrength: -2 is not a finite number ≥ 0"));
+    }
+}
