@@ -180,13 +180,17 @@ struct Header {
     checksum: String,
 }
 
-impl Header {
-    /// The checksum of this header and `sums` (the checksum field itself left out).
-    fn checksum(&self, sums: &[f64]) -> Result<String, serde_json::Error> {
-        let mut bytes = serde_json::to_vec(&Header { checksum: String::new(), ..self.clone() })?;
-        bytes.extend(sums.iter().flat_map(|s| s.to_bits().to_le_bytes()));
-        Ok(crate::hash::content_hash(&bytes))
-    }
+/// The checksum of a header's JSON as written with an empty checksum, and of `sums`: over the
+/// text itself, since JSON numbers need not read back to the same bits.
+fn checksum(json_with_empty_checksum: &str, sums: &[f64]) -> String {
+    let mut bytes = json_with_empty_checksum.as_bytes().to_vec();
+    bytes.extend(sums.iter().flat_map(|s| s.to_bits().to_le_bytes()));
+    crate::hash::content_hash(&bytes)
+}
+
+/// The header member that holds the checksum, as serde_json writes it.
+fn checksum_member(value: &str) -> String {
+    format!("\"checksum\":\"{value}\"")
 }
 
 /// A part read back.
@@ -281,8 +285,9 @@ pub fn write_part(
         bootstrap: r.bootstrap.into(),
         checksum: String::new(),
     };
-    let header = Header { checksum: header.checksum(&r.accumulation.image).map_err(|e| fail(&e))?, ..header };
-    let json = serde_json::to_string(&header).map_err(|e| fail(&e))?;
+    let blank = serde_json::to_string(&header).map_err(|e| fail(&e))?;
+    let sum = checksum(&blank, &r.accumulation.image);
+    let json = blank.replacen(&checksum_member(""), &checksum_member(&sum), 1);
     let pixels = (r.width * r.height) as usize;
     let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
     for (i, name) in ["R", "G", "B"].iter().enumerate() {
@@ -354,7 +359,8 @@ pub fn read_part(path: &Path) -> Result<Part, PartError> {
             sums[p * 3 + i] = f64::from_bits(((hi[p] as u64) << 32) | lo[p] as u64);
         }
     }
-    if header.checksum(&sums).map_err(|e| damaged(&e.to_string()))? != header.checksum {
+    let blank = text.to_string().replacen(&checksum_member(&header.checksum), &checksum_member(""), 1);
+    if header.checksum.is_empty() || checksum(&blank, &sums) != header.checksum {
         return Err(damaged(
             "its checksum does not match its header and sums: it was changed after it was written",
         ));
