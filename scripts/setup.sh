@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs what smlt needs, idempotently, and says exactly what to run where it cannot:
-#  - the nightly pinned in rust-toolchain.toml with rust-src, rustc-dev and llvm-tools
-#    (rust-gpu's backend requires exactly that nightly; nothing installs it implicitly here);
+#  - the nightly pinned in rust-toolchain.toml (nothing installs it implicitly here); the
+#    kernels' SPIR-V module is committed, so a renderer needs no more of it — rust-gpu's
+#    backend and its rustc-dev and llvm-tools are installed by scripts/build-kernels.sh, for
+#    kernel developers only;
 #  - when no Vulkan driver is installed, Debian's Vulkan loader and lavapipe, Mesa's CPU
 #    Vulkan driver (packages libvulkan1 and mesa-vulkan-drivers);
 #  - when it is missing, Intel Embree (libembree3-3): the CPU backend's fastest ray caster,
