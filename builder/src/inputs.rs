@@ -11,6 +11,10 @@
 
 use std::path::{Path, PathBuf};
 
+#[path = "fnv.rs"]
+mod fnv;
+pub use fnv::fnv1a;
+
 /// The files, relative to the repository root, that are hashed whole.
 fn input_files(root: &Path) -> std::io::Result<Vec<PathBuf>> {
     let mut files: Vec<PathBuf> = [
@@ -22,6 +26,7 @@ fn input_files(root: &Path) -> std::io::Result<Vec<PathBuf>> {
         "builder/rust-toolchain.toml",
         "builder/src/main.rs",
         "builder/src/inputs.rs",
+        "builder/src/fnv.rs",
     ]
     .iter()
     .map(PathBuf::from)
@@ -96,16 +101,6 @@ fn kernel_lock_entries(lock: &str) -> String {
         }
     }
     seen.iter().map(|k| packages[k].0.as_str()).collect()
-}
-
-/// FNV-1a (64 bit) of `bytes`, as hex.
-pub fn fnv1a(bytes: &[u8]) -> String {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for b in bytes {
-        h ^= *b as u64;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    format!("{h:016x}")
 }
 
 /// The hash of the kernels module's inputs below the repository `root`, and the files read

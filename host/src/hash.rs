@@ -1,15 +1,13 @@
 //! The content hash that names what a cache entry or a part file was made from (a scene's
-//! files, the kernels module): FNV-1a, 64 bits, as 16 hex digits. Stable across machines and
-//! versions; not cryptographic.
+//! files, the kernels module): FNV-1a, 64 bits, as 16 hex digits (`builder/src/fnv.rs`, the
+//! one definition, shared with the kernels' builder).
+
+#[path = "../../builder/src/fnv.rs"]
+mod fnv;
 
 /// FNV-1a (64 bit) of `bytes`, as hex.
 pub fn content_hash(bytes: &[u8]) -> String {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    for b in bytes {
-        h ^= *b as u64;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    format!("{h:016x}")
+    fnv::fnv1a(bytes)
 }
 
 #[cfg(test)]
