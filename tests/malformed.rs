@@ -9,25 +9,13 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
+mod common;
+
 use base64::Engine;
+use common::rng::Xorshift;
 use serde_json::Value;
 use smlt::render::{self, cpu::CpuBackend, Budget, Method, Settings};
 use smlt::scene::SceneData;
-
-/// A xorshift stream.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
 
 /// A base document: its JSON and its one buffer's bytes.
 struct Base {
@@ -121,7 +109,7 @@ fn member_paths(v: &Value, at: String, out: &mut Vec<String>) {
 }
 
 /// One malformed file made from `base`, and what was changed.
-fn mutate(base: &Base, rng: &mut Rng) -> (Vec<u8>, String) {
+fn mutate(base: &Base, rng: &mut Xorshift) -> (Vec<u8>, String) {
     let (mut json, mut bin) = (base.json.clone(), base.bin.clone());
     let glb = rng.below(4) == 0;
     let what = match rng.below(5) {
@@ -164,7 +152,7 @@ fn mutate(base: &Base, rng: &mut Rng) -> (Vec<u8>, String) {
         let mut bytes = Base::glb(&json, &bin);
         if rng.below(2) == 0 {
             let i = rng.below(bytes.len());
-            bytes[i] = rng.next() as u8;
+            bytes[i] = rng.next_u64() as u8;
             return (bytes, format!("{what}; .glb byte {i} changed"));
         }
         if rng.below(4) == 0 {
@@ -224,7 +212,7 @@ fn malformed_files_render_or_are_refused_in_one_line() {
             std::process::abort();
         }
     });
-    let mut rng = Rng(0x5DEE_CE66_D1CE_4E5B);
+    let mut rng = Xorshift(0x5DEE_CE66_D1CE_4E5B);
     let (mut rendered, mut refused) = (0u64, 0u64);
     let mut reasons: std::collections::BTreeMap<String, u64> = Default::default();
     let mut panics = Vec::new();

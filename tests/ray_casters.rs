@@ -16,6 +16,7 @@ mod common;
 
 use std::path::Path;
 
+use common::rng::Xorshift;
 use glam::Vec3;
 use shared::mmlt::RenderParams;
 use shared::ray_caster::{Hit, RayCaster, NO_HIT};
@@ -26,23 +27,11 @@ use smlt::scene::SceneData;
 /// Queries of each kind per scene.
 const QUERIES: usize = 100_000;
 
-/// A xorshift stream of uniforms in [0, 1).
-struct Uniforms(u64);
-
-impl Uniforms {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
-
 /// The queries: closest-hit rays from random points of random triangles (tmin a ten-thousandth
 /// of the scene's diagonal, past the origin's own triangle), then one occlusion ray along each
 /// with an interval ending before, at or after the closest hit.
 fn queries(scene: &SceneData, seed: u64) -> Vec<Ray> {
-    let mut u = Uniforms(seed);
+    let mut u = Xorshift(seed);
     let diagonal = (scene.bounds.1 - scene.bounds.0).length();
     let tmin = 1e-4 * diagonal;
     let caster = scene.shared().caster;
@@ -50,19 +39,20 @@ fn queries(scene: &SceneData, seed: u64) -> Vec<Ray> {
     let mut occlusion = Vec::with_capacity(QUERIES);
     let (lo, hi) = scene.bounds;
     while rays.len() < QUERIES {
-        let tri = scene.triangles[(u.next() * scene.triangles.len() as f32) as usize % scene.triangles.len()];
-        let (a, b) = (u.next(), u.next());
+        let tri =
+            scene.triangles[(u.uniform() * scene.triangles.len() as f32) as usize % scene.triangles.len()];
+        let (a, b) = (u.uniform(), u.uniform());
         let (b0, b1) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
         let mut o = tri.point(b0, b1);
-        let z = 1.0 - 2.0 * u.next();
-        let phi = std::f32::consts::TAU * u.next();
+        let z = 1.0 - 2.0 * u.uniform();
+        let phi = std::f32::consts::TAU * u.uniform();
         let r = (1.0 - z * z).max(0.0).sqrt();
         let mut d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
         if rays.len() % 7 == 0 {
             // Axis-parallel: one or two zero components, of both signs, from a point inside the
             // scene's box (from a point on an axis-aligned wall such a ray would run inside the
             // wall's plane, where hitting a neighbour's edge is a matter of rounding).
-            o = lo + (hi - lo) * Vec3::new(u.next(), u.next(), u.next());
+            o = lo + (hi - lo) * Vec3::new(u.uniform(), u.uniform(), u.uniform());
             d.x = if rays.len() % 2 == 0 { 0.0 } else { -0.0 };
             if rays.len() % 3 == 0 {
                 d.y = if rays.len() % 4 == 0 { 0.0 } else { -0.0 };
