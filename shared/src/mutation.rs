@@ -113,12 +113,10 @@ pub fn tree_candidate_sample(
     params: &MutationParams,
 ) -> f32 {
     let level = crate::tree::candidate_level(j);
-    let history = crate::tree::candidate_history(j);
     let mut v = current;
     let mut lvl = 1u32;
     while lvl <= level {
-        let applied = lvl == level || (history >> (level - 1 - lvl)) & 1 == 1;
-        if applied {
+        if level_applies(j, lvl) {
             if lvl == 1 && large_step {
                 v = level_uniforms[0];
             } else {
@@ -131,28 +129,36 @@ pub fn tree_candidate_sample(
     v
 }
 
+/// Whether candidate `j` carries the mutation of level `lvl` (1 ≤ lvl ≤ its level): its own
+/// level's, and each earlier level's whose proposal its history accepted.
+#[inline]
+pub fn level_applies(j: u32, lvl: u32) -> bool {
+    let level = crate::tree::candidate_level(j);
+    lvl == level || (crate::tree::candidate_history(j) >> (level - 1 - lvl)) & 1 == 1
+}
+
 /// The uniforms of [`tree_candidate_sample`] for dimensions `4·group .. 4·group + 4` of
 /// candidate `j` of the chain named by `key`: lane i of the result holds dimension 4·group + i.
-/// Only the levels candidate `j` descends through are drawn.
+/// Only the levels candidate `j` carries ([`level_applies`]) are drawn — the fresh values of a
+/// large step instead of level 1's perturbation when it is one — the others are left 0 (the
+/// random numbers are keyed by level, so skipping one changes no other).
 #[inline]
 pub fn tree_level_uniforms(key: RngKey, j: u32, large_step: bool, group: u32) -> [[f32; 9]; 4] {
     let level = crate::tree::candidate_level(j);
     let mut out = [[0.0f32; 9]; 4];
-    if large_step {
-        let fresh = rng::uniform4(key, rng::STREAM_LARGE_STEP, group);
-        let mut lane = 0;
-        while lane < 4 {
-            out[lane][0] = fresh[lane];
-            lane += 1;
-        }
-    }
     let mut lvl = 1u32;
     while lvl <= level {
-        let u = rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, group);
-        let mut lane = 0;
-        while lane < 4 {
-            out[lane][lvl as usize] = u[lane];
-            lane += 1;
+        if level_applies(j, lvl) {
+            let (slot, u) = if lvl == 1 && large_step {
+                (0, rng::uniform4(key, rng::STREAM_LARGE_STEP, group))
+            } else {
+                (lvl as usize, rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, group))
+            };
+            let mut lane = 0;
+            while lane < 4 {
+                out[lane][slot] = u[lane];
+                lane += 1;
+            }
         }
         lvl += 1;
     }
@@ -250,6 +256,34 @@ mod tests {
         }
         // Lanes are different dimensions: different offsets.
         assert_ne!(sample(root, 0, false, key, 4), sample(root, 0, false, key, 5));
+    }
+
+    /// A candidate draws only the levels it carries, each the level's own draw: candidate 5
+    /// (level 3, history 10) carries levels 1 and 3, candidate 4 (history 01) levels 2 and 3;
+    /// with a large step level 1's slot is the fresh value.
+    #[test]
+    fn candidates_draw_only_the_levels_they_carry() {
+        let key = RngKey { seed: 5, chain: 9, iteration: 3, dimension: 0 };
+        let carried: Vec<Vec<u32>> = (0..7)
+            .map(|j| (1..=crate::tree::candidate_level(j)).filter(|&l| level_applies(j, l)).collect())
+            .collect();
+        assert_eq!(carried, [vec![1], vec![2], vec![1, 2], vec![3], vec![2, 3], vec![1, 3], vec![1, 2, 3]]);
+        for (j, large) in [(5u32, false), (4, false), (5, true), (6, true)] {
+            let u = tree_level_uniforms(key, j, large, 2);
+            for lvl in 1..=3u32 {
+                let drawn = rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, 2);
+                let fresh = rng::uniform4(key, rng::STREAM_LARGE_STEP, 2);
+                for lane in 0..4 {
+                    let expected = match (level_applies(j, lvl), lvl == 1 && large) {
+                        (false, _) => 0.0,
+                        (true, false) => drawn[lane],
+                        (true, true) => fresh[lane],
+                    };
+                    let slot = if lvl == 1 && large { 0 } else { lvl as usize };
+                    assert_eq!(u[lane][slot], expected, "candidate {j} level {lvl} lane {lane}");
+                }
+            }
+        }
     }
 
     #[test]
