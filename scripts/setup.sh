@@ -7,7 +7,7 @@
 #  - when no Vulkan driver is installed, Debian's Vulkan loader and lavapipe, Mesa's CPU
 #    Vulkan driver (packages libvulkan1 and mesa-vulkan-drivers);
 #  - when it is missing, Intel Embree (libembree3-3): the CPU backend's fastest ray caster,
-#    loaded at run time. smlt runs without it (rays through obvhs's traversal, about 2.4x
+#    loaded at run time. smlt runs without it (rays through obvhs's traversal, 1.5-2.7x
 #    slower), so where it cannot be installed this only prints a note.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -252,7 +252,7 @@ fn equal_time(
             let what = (label, view, method.as_str());
             let p = match gpu_backends.get_mut(i) {
                 Some(device) => profile(device, scene, what, next[i], measured)?,
-                None => profile_cpu(&mut cpu_backends[i], scene, what, next[i], measured),
+                None => profile_cpu(&mut cpu_backends[i], scene, what, next[i], measured)?,
             };
             log(&format!("profile {}", p.csv()));
             profiles.push(p);

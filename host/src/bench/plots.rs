@@ -9,7 +9,7 @@ use std::sync::Once;
 
 use plotters::prelude::*;
 
-use crate::bench::results::{along_time, final_interval, views, Row};
+use crate::bench::results::{along_time, final_interval, first_seen, views, Row};
 use crate::render::Method;
 
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
@@ -30,12 +30,8 @@ pub fn speedup_plot(rows: &[Row], path: &Path) -> anyhow::Result<()> {
     let speed = |r: &Row| r.mutations_per_s;
     for (scene, view) in views(rows) {
         let Some(naive) = final_interval(rows, &scene, view, "naive", speed) else { continue };
-        let mut methods: Vec<&str> = Vec::new();
-        for r in rows.iter().filter(|r| r.scene == scene && r.view == view) {
-            if !methods.contains(&r.method.as_str()) {
-                methods.push(&r.method);
-            }
-        }
+        let methods =
+            first_seen(rows.iter().filter(|r| r.scene == scene && r.view == view).map(|r| r.method.as_str()));
         for (family, prefix) in [("SMLT", 's'), ("RCMLT", 'r')] {
             let mut points = vec![(1.0, 1.0)];
             for name in methods.iter().filter(|m| m.starts_with(prefix)) {
@@ -90,12 +86,7 @@ pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::
     if mine.is_empty() {
         return Ok(());
     }
-    let mut methods: Vec<&str> = Vec::new();
-    for r in &mine {
-        if !methods.contains(&r.method.as_str()) {
-            methods.push(&r.method);
-        }
-    }
+    let methods = first_seen(mine.iter().map(|r| r.method.as_str()));
     let curves: Vec<Vec<(f64, crate::bench::interval::Interval)>> =
         methods.iter().map(|m| along_time(rows, scene, view, m, |r| r.errors.rmse)).collect();
     let (mut t0, mut t1, mut e0, mut e1) = (f64::MAX, 0.0f64, f64::MAX, 0.0f64);

@@ -11,9 +11,10 @@
 use std::fmt::Write as _;
 
 use crate::bench::raycast::{log_candidates, replay, replay_on_host, RayLog};
+use crate::bench::results::first_seen;
 use crate::passes::Stage;
 use crate::render::cpu::CpuBackend;
-use crate::render::gpu::GpuBackend;
+use crate::render::gpu::{GpuBackend, PassTimes};
 use crate::render::{Backend, RenderError};
 use crate::scene::SceneData;
 use crate::timing::Clock;
@@ -45,8 +46,8 @@ pub struct Profile {
     pub bare_rays_per_s: f64,
     /// Candidates/s measured in the equal-time run.
     pub mutations_per_s: f64,
-    /// MiB of the render's device buffers (`passes::buffers::device_bytes`; the CPU backend holds
-    /// the same buffers).
+    /// MiB of the render's buffers on a device (`passes::buffers::device_bytes`; the CPU backend
+    /// holds the iteration buffers of that list and reads the scene in place).
     pub device_mib: f64,
     /// Threads of the CPU backend; 0 on a device.
     pub threads: usize,
@@ -129,17 +130,7 @@ pub fn profile(
     params: RenderParams,
     mutations_per_s: f64,
 ) -> Result<Profile, RenderError> {
-    let mut total = [0.0f64; Stage::COUNT];
-    let mut clock = Clock::Wall;
-    let mut last = params;
-    for i in 0..TIMED_ITERATIONS {
-        last = RenderParams { iteration: params.iteration + i, ..params };
-        let (seconds, c) = backend.iterate_timed(&last)?;
-        clock = c;
-        for (sum, s) in total.iter_mut().zip(seconds) {
-            *sum += s;
-        }
-    }
+    let (last, clock, total) = timed_iterations(params, |p| backend.iterate_timed(p))?;
     let gpu = backend.gpu().clone();
     let c = last.candidates as usize;
     let cand_u: Vec<f32> = gpu.read(&backend.buffers().iteration.cand_u, c * last.dims as usize)?;
@@ -157,15 +148,8 @@ pub fn profile_cpu(
     what: Profiled,
     params: RenderParams,
     mutations_per_s: f64,
-) -> Profile {
-    let mut total = [0.0f64; Stage::COUNT];
-    let mut last = params;
-    for i in 0..TIMED_ITERATIONS {
-        last = RenderParams { iteration: params.iteration + i, ..params };
-        for (sum, s) in total.iter_mut().zip(backend.iterate_timed(&last)) {
-            *sum += s;
-        }
-    }
+) -> Result<Profile, RenderError> {
+    let (last, _, total) = timed_iterations(params, |p| Ok((backend.iterate_timed(p), Clock::Wall)))?;
     let logs: Vec<RayLog> = backend
         .candidates(&last)
         .into_iter()
@@ -174,7 +158,27 @@ pub fn profile_cpu(
     let pool = backend.thread_pool().expect("the CPU backend has a pool");
     let replayed = replay_on_host(pool, scene, &logs, REPLAYS);
     let threads = backend.threads();
-    assemble(scene, what, (&last, Clock::Wall, total), &logs, replayed.seconds, mutations_per_s, threads)
+    Ok(assemble(scene, what, (&last, Clock::Wall, total), &logs, replayed.seconds, mutations_per_s, threads))
+}
+
+/// Runs [`TIMED_ITERATIONS`] iterations from `params` through `iterate` (seconds per stage and
+/// the clock that timed them); returns the last iteration's parameters, the clock and each
+/// stage's summed seconds.
+fn timed_iterations(
+    params: RenderParams,
+    mut iterate: impl FnMut(&RenderParams) -> Result<(PassTimes, Clock), RenderError>,
+) -> Result<(RenderParams, Clock, PassTimes), RenderError> {
+    let mut total = [0.0f64; Stage::COUNT];
+    let (mut last, mut clock) = (params, Clock::Wall);
+    for i in 0..TIMED_ITERATIONS {
+        last = RenderParams { iteration: params.iteration + i, ..params };
+        let (seconds, c) = iterate(&last)?;
+        clock = c;
+        for (sum, s) in total.iter_mut().zip(seconds) {
+            *sum += s;
+        }
+    }
+    Ok((last, clock, total))
 }
 
 /// A profile from the timed passes (params of the last timed iteration, clock, summed seconds)
@@ -182,7 +186,7 @@ pub fn profile_cpu(
 fn assemble(
     scene: &SceneData,
     (label, view, method): Profiled,
-    (last, clock, total): (&RenderParams, Clock, [f64; Stage::COUNT]),
+    (last, clock, total): (&RenderParams, Clock, PassTimes),
     logs: &[RayLog],
     replay_seconds: f64,
     mutations_per_s: f64,
@@ -209,13 +213,7 @@ fn assemble(
 /// and the ray-casting ceiling.
 pub fn tables(profiles: &[Profile]) -> String {
     let mut out = String::new();
-    let mut views: Vec<(String, u32)> = Vec::new();
-    for p in profiles {
-        if !views.contains(&(p.scene.clone(), p.view)) {
-            views.push((p.scene.clone(), p.view));
-        }
-    }
-    for (scene, view) in views {
+    for (scene, view) in first_seen(profiles.iter().map(|p| (p.scene.clone(), p.view))) {
         let rows: Vec<&Profile> = profiles.iter().filter(|p| p.scene == scene && p.view == view).collect();
         let clock = rows.first().map(|p| p.clock).unwrap_or(Clock::Wall);
         let names: Vec<&str> = Stage::ITERATION.iter().map(|s| s.name()).collect();

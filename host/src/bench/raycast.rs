@@ -80,8 +80,9 @@ pub fn log_candidates(
     let mut paths = vec![PathInfo::default(); c];
     let mut contributions = vec![Vec4::ZERO; c];
     let mut per_candidate: Vec<Vec<Ray>> = Vec::with_capacity(c);
+    let caster = scene.shared().caster;
     for k in 0..c {
-        let log = Logged::new(scene.shared().caster);
+        let log = Logged::new(caster);
         let logging = scene.with_caster(&log);
         kernels::trace::trace(k, params, cand_depth, cand_u, logging, &mut vertices, &mut paths);
         kernels::connect::connect(k, params, cand_u, logging, &vertices, &paths, &mut contributions);

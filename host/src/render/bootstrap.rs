@@ -3,9 +3,10 @@
 //!
 //! It always runs on the host, with the kernel bodies on a thread pool, in a fixed order, and
 //! casts its rays through the device's own traversal (`shared::cwbvh`, plain Rust, whatever
-//! host caster the CPU backend uses): it is a function of the scene and the settings alone, so every shard of a render — on any device,
-//! with any thread count, on any machine — computes the very same bootstrap (the part files
-//! carry its moments, and `smlt merge` checks that they agree).
+//! host caster the CPU backend uses): it is a function of the scene and the settings alone, so
+//! every shard of a render — on any device, with any thread count, on any machine — computes
+//! the very same bootstrap (the part files carry its moments, and `smlt merge` checks that
+//! they agree).
 
 use std::time::Instant;
 

@@ -106,10 +106,10 @@ pub struct SceneData {
     /// The compressed wide BVH over `triangles` (nodes root first; its primitive order is the
     /// triangles' order).
     pub bvh: CwBvh,
-    /// The triangles' vertices and edges, in the same order (what the CPU backend's ray caster
-    /// reads).
-    pub edges: Vec<TriangleEdges>,
-    /// Embree's scene of the triangles, built on the CPU backend's first query where Embree is
+    /// The triangles' vertices and edges, in the same order: what obvhs's caster reads, made on
+    /// its first use (Embree, where it is used, keeps its own copy).
+    pub edges: OnceLock<Vec<TriangleEdges>>,
+    /// Embree's scene of the triangles, built on the CPU backend's first use where Embree is
     /// used (None where it is not).
     pub embree: OnceLock<Option<Arc<EmbreeScene>>>,
     /// Indexed by `Triangle::material`.
@@ -158,7 +158,8 @@ impl SceneData {
 
     /// The scene with ray queries through obvhs's traversal of the device's BVH.
     pub fn obvhs_view(&self) -> Scene<'_, HostCaster<'_>> {
-        self.with_caster(HostCaster::Obvhs(ObvhsCaster { bvh: &self.bvh, edges: &self.edges }))
+        let edges = self.edges.get_or_init(|| self.triangles.iter().map(TriangleEdges::of).collect());
+        self.with_caster(HostCaster::Obvhs(ObvhsCaster { bvh: &self.bvh, edges }))
     }
 
     /// The scene as the device sees it: ray queries through the shared wide-BVH traversal (on
@@ -271,11 +272,10 @@ impl SceneData {
             }
         }
         let camera = soup.cameras.first().copied().unwrap_or_else(|| default_camera(lo, hi));
-        let edges = triangles.iter().map(TriangleEdges::of).collect();
         Ok(SceneData {
             name: name.into(),
             triangles,
-            edges,
+            edges: OnceLock::new(),
             embree: OnceLock::new(),
             bvh,
             materials: soup.materials,
