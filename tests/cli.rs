@@ -374,7 +374,7 @@ fn the_bench_writes_a_well_formed_csv() {
         "--scenes",
         "cornell,atrium:2",
         "--methods",
-        "naive,s2,rc2",
+        "pt,naive,s2,rc2",
         "--seconds",
         "1.5",
         "--width",
@@ -401,12 +401,17 @@ fn the_bench_writes_a_well_formed_csv() {
         "scene,view,method,repeat,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr"
     ));
     let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(String::from).collect()).collect();
-    // 2 scene views × 3 methods × 2 repeats × 2 times (1 s and 1.5 s).
-    assert_eq!(rows.len(), 24, "{csv}");
-    assert_eq!(rows.iter().filter(|r| r[3] == "1").count(), 12, "half the rows are the second repeat");
+    // 2 scene views × 4 methods × 2 repeats × 2 times (1 s and 1.5 s).
+    assert_eq!(rows.len(), 32, "{csv}");
+    assert_eq!(rows.iter().filter(|r| r[3] == "1").count(), 16, "half the rows are the second repeat");
     for r in &rows {
         assert_eq!(r.len(), header.split(',').count(), "{r:?} against {header}");
-        assert!(["naive", "s2", "rc2"].contains(&r[2].as_str()));
+        assert!(["pt", "naive", "s2", "rc2"].contains(&r[2].as_str()));
+        if r[2] == "pt" {
+            // The path tracer's b is exactly 1, and every path is a step.
+            assert_eq!(r[5], r[6], "{r:?}");
+            assert_eq!(r[13].parse::<f64>().unwrap(), 1.0, "{r:?}");
+        }
         for field in &r[3..] {
             let v: f64 = field.parse().unwrap_or_else(|_| panic!("{field} in {r:?}"));
             assert!(v.is_finite() && v >= 0.0, "{r:?}");
@@ -414,11 +419,13 @@ fn the_bench_writes_a_well_formed_csv() {
     }
     let tables = std::fs::read_to_string(dir.join("tables.md")).unwrap();
     assert!(tables.contains("Million mutations") && tables.contains("PSNR") && tables.contains("| rc2 |"));
+    assert!(tables.contains("| pt |"), "{tables}");
     assert!(tables.contains("relMSE") && tables.contains(" ± "), "means with intervals: {tables}");
     assert!(dir.join("heat_cornell_v1_naive.png").exists());
     {
         // Inside an iteration, on the device as on the CPU backend: a profile per scene view and
-        // method, every number positive, the CPU backend's threads counted.
+        // Metropolis method (not the path tracer), every number positive, the CPU backend's
+        // threads counted.
         let passes = std::fs::read_to_string(dir.join("passes.csv")).unwrap();
         let mut lines = passes.lines();
         let header = lines.next().unwrap();
@@ -452,7 +459,7 @@ fn the_bench_writes_a_well_formed_csv() {
     std::fs::write(dir.join("with_peer.csv"), with_peer).unwrap();
     let (ok, stdout, stderr) =
         smlt(&["plot", dir.join("with_peer.csv").to_str().unwrap(), "--out", again.to_str().unwrap()]);
-    assert!(ok && stdout.contains("25 rows"), "{stderr}");
+    assert!(ok && stdout.contains("33 rows"), "{stderr}");
     assert!(again.join("speedup.png").exists());
     let tables = std::fs::read_to_string(again.join("tables.md")).unwrap();
     assert!(tables.contains("| mitsuba-path |") && tables.contains("Efficiency"), "{tables}");
@@ -609,6 +616,51 @@ fn shards_merge_into_the_unsplit_image() {
     }
     let (ok, _, stderr) = smlt(&[&base[..], &["--shard", "4/3", "--out", &bad]].concat());
     assert!(!ok && stderr.contains("4/3"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `render --method pt` is the reference's estimator as a method: at the same seed and samples
+/// it writes the image `smlt reference` writes, and its shards (which take the rounds in
+/// turns) merge into the unsplit image; its summary counts paths, not chains.
+#[test]
+fn the_path_tracer_is_a_method_with_shards() {
+    let dir = temp_dir("pt");
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let size = ["--device", "cpu", "--width", "10", "--height", "6", "--seed", "3"];
+    let base =
+        [&["render", "--method", "pt", "--mutations-per-pixel", "16", "--candidates", "240"], &size[..]]
+            .concat();
+    let (ok, stdout, stderr) = smlt(&[&base[..], &["--out", &path("whole.exr")]].concat());
+    assert!(ok, "{stderr}");
+    for line in ["paths traced         960", "samples per pixel    16", "iterations           4"] {
+        assert!(stdout.contains(line), "{line}: {stdout}");
+    }
+    assert!(!stdout.contains("chains") && !stdout.contains("normalisation"), "{stdout}");
+    let (ok, _, stderr) =
+        smlt(&[&["reference", "--spp", "16", "--out", &path("reference.exr")], &size[..]].concat());
+    assert!(ok, "{stderr}");
+    let (_, _, whole) = smlt::output::read_exr(&dir.join("whole.exr")).unwrap();
+    let (_, _, reference) = smlt::output::read_exr(&dir.join("reference.exr")).unwrap();
+    for (a, b) in whole.iter().zip(&reference) {
+        assert!((a - b).abs() <= 1e-6 * a.abs().max(1e-3), "render {a} vs reference {b}");
+    }
+    // Five shards of four rounds: shard 5 has none of its own, and still merges.
+    let mut parts = vec!["merge".to_string()];
+    for k in 1..=5 {
+        let part = path(&format!("part{k}.exr"));
+        let (ok, stdout, stderr) =
+            smlt(&[&base[..], &["--shard", &format!("{k}/5"), "--out", &part]].concat());
+        assert!(ok && stdout.contains(&format!("part {k}/5")), "{stderr}");
+        parts.push(part);
+    }
+    parts.extend(["--out".to_string(), path("merged.exr")]);
+    let refs: Vec<&str> = parts.iter().map(|s| s.as_str()).collect();
+    let (ok, stdout, stderr) = smlt(&refs);
+    assert!(ok && stdout.contains("paths traced         960"), "{stdout}{stderr}");
+    let (_, _, merged) = smlt::output::read_exr(&dir.join("merged.exr")).unwrap();
+    for (a, b) in whole.iter().zip(&merged) {
+        assert!((a - b).abs() <= 1e-6 * a.abs().max(1e-3), "whole {a} vs merged {b}");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -1,5 +1,6 @@
-//! Convergence: the MMLT image matches analytic answers, on the CPU and on the device, and
-//! different mutation schedules converge to the same image.
+//! Convergence: the MMLT image and the path tracer's (`--method pt`) match analytic answers, on
+//! the CPU and on the device, and different mutation schedules and methods converge to the
+//! same image.
 
 mod common;
 
@@ -101,6 +102,39 @@ fn furnace_blocks_are_within_their_noise() {
     }
 }
 
+/// The path tracer as a method: the furnace's mean within 4 standard errors of the analytic
+/// radiance (the error from the spread of the pixels' means: every pixel has the same
+/// distribution), and every block within 6 %, on the CPU and (with a device) on the device.
+#[test]
+fn the_path_tracer_matches_the_furnace() {
+    let (rho, k) = (0.8, 5);
+    let scene = furnace(1.0, rho);
+    let expected = furnace_radiance(1.0, rho, k);
+    let mut s = settings(16, k, 512.0, 4096, 1);
+    s.method = Method::PathTracer;
+    let mut renders = vec![("cpu", render_cpu(&scene, &s))];
+    if let Some(gpu) = common::gpu_or_skip("the_path_tracer_matches_the_furnace (device half)") {
+        let mut backend =
+            GpuBackend::new(gpu, &scene, &render::base_params(&scene, &s)).expect("device buffers");
+        renders.push(("device", render_on(&scene, &s, &mut backend)));
+    }
+    for (device, r) in renders {
+        assert_eq!(r.stats.b, 1.0, "{device}: the path tracer is not normalised");
+        assert_eq!(r.stats.candidates, 512 * 256, "{device}: 512 samples of 256 pixels");
+        let luminance: Vec<f64> =
+            r.rgb.chunks(3).map(|c| (c[0] as f64 + c[1] as f64 + c[2] as f64) / 3.0).collect();
+        let n = luminance.len() as f64;
+        let mean = luminance.iter().sum::<f64>() / n;
+        let variance = luminance.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        let se = (variance / n).sqrt();
+        println!("{device}: path tracer mean {mean:.5} ± {se:.5}, expected {expected:.5}");
+        assert!((mean - expected).abs() < 4.0 * se, "{device}: {mean} ± {se} vs {expected}");
+        for b in block_means(&r, 4) {
+            assert!((b / expected - 1.0).abs() < 0.06, "{device}: block {b} vs {expected}");
+        }
+    }
+}
+
 #[test]
 fn furnace_matches_the_analytic_radiance_on_the_device() {
     let Some(gpu) = common::gpu_or_skip("furnace_matches_the_analytic_radiance_on_the_device") else {
@@ -136,14 +170,15 @@ fn large_steps_only_and_the_default_schedule_agree() {
 }
 
 /// Every method converges to the same image: on the default scene, at a fixed seed and equal
-/// budgets, each 4×4 block's mean over 5 independent renders of s2, s4, s6, rc4 and rc16 agrees
-/// with naive's within 5 standard errors of the difference (from the renders' spread).
+/// budgets, each 4×4 block's mean over 5 independent renders of s2, s4, s6, rc4, rc16 and the
+/// path tracer agrees with naive's within 5 standard errors of the difference (from the
+/// renders' spread).
 #[test]
 fn every_method_converges_to_the_same_image() {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
     let mut s = settings(32, 5, 256.0, 4096, 1 << 17);
     let naive = replica_blocks(&scene, &s, 30, 5);
-    for method in ["s2", "s4", "s6", "rc4", "rc16"] {
+    for method in ["s2", "s4", "s6", "rc4", "rc16", "pt"] {
         s.method = method.parse().unwrap();
         let runs = replica_blocks(&scene, &s, 40, 5);
         let mut worst = 0.0f64;
@@ -161,7 +196,7 @@ fn every_method_converges_to_the_same_image() {
 #[test]
 fn a_render_is_deterministic() {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
-    for method in ["naive", "s3", "rc8"] {
+    for method in ["naive", "s3", "rc8", "pt"] {
         let mut s = settings(16, 4, 16.0, 1024, 4096);
         s.method = method.parse().unwrap();
         let a = render_cpu(&scene, &s);

@@ -206,6 +206,7 @@ fn every_method_refines_b_with_its_large_steps() {
         let per_iteration = match m {
             Method::Tree(_) => s.chains() as f64,
             Method::RejectChain(l) => (s.chains() * l) as f64,
+            Method::PathTracer => unreachable!("not among the methods tested"),
         } * s.mutation.p_large as f64;
         let n = per_iteration * r.stats.iterations as f64;
         let got = r.stats.large_steps as f64;

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use shared::normalisation::Moments;
 
-use crate::render::{Accumulation, Rendered, Settings, Shard, Stats};
+use crate::render::{Accumulation, Method, Rendered, Settings, Shard, Stats};
 
 /// The `format` value of a part written by this version.
 pub const FORMAT: &str = "smlt-part-3";
@@ -42,7 +42,7 @@ pub struct Identity {
     pub max_depth: u32,
     /// The seed every random number of the render is keyed by.
     pub seed: u32,
-    /// The method as printed: `naive`, `s<d>` or `rc<l>`.
+    /// The method as printed: `pt`, `naive`, `s<d>` or `rc<l>`.
     pub method: String,
     /// Candidates per iteration of the whole render (sets the chain count).
     pub candidates: u32,
@@ -422,12 +422,22 @@ pub fn merge(parts: &[Part]) -> Result<Rendered, PartError> {
     }
     let id = &first.identity;
     let mut acc = Accumulation::new(id.width as usize * id.height as usize);
-    let per_chain = id.method.parse::<crate::render::Method>().map_or(1, |m| m.candidates_per_chain());
-    let mut stats = Stats { chains: (id.candidates / per_chain).max(1), ..Default::default() };
+    let method = id.method.parse::<Method>().map_err(|e| PartError::Damaged(show(first), e))?;
+    let chains = match method {
+        Method::PathTracer => 0,
+        m => (id.candidates / m.candidates_per_chain()).max(1),
+    };
+    let mut stats = Stats { chains, ..Default::default() };
     for p in by_shard.into_iter().flatten() {
         acc.merge(&p.accumulation);
         stats.iterations = stats.iterations.max(p.iterations);
         stats.render_seconds = stats.render_seconds.max(p.render_seconds);
     }
-    Ok(Rendered::from_accumulation(id.width, id.height, id.max_depth, first.bootstrap, acc, stats))
+    Ok(Rendered::from_accumulation(
+        (id.width, id.height),
+        (method, id.max_depth),
+        first.bootstrap,
+        acc,
+        stats,
+    ))
 }

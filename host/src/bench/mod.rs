@@ -166,7 +166,7 @@ struct EqualTime<'a> {
 
 /// Renders every method on one scene view with the repeat's seed, advancing them in turns to
 /// the same render times, appends a row per method and time to `rows`, then (on a device, in
-/// the first repeat) profiles each method's passes into `profiles`. Returns each method's
+/// the first repeat) profiles each Metropolis method's passes into `profiles`. Returns each method's
 /// final image.
 fn equal_time(
     b: &BenchSettings,
@@ -247,6 +247,10 @@ fn equal_time(
     drop(renderers);
     if repeat == 0 {
         for (i, method) in b.methods.iter().enumerate() {
+            // The profile looks inside the chains' iterations; the path tracer has one pass.
+            if *method == Method::PathTracer {
+                continue;
+            }
             let method = method.to_string();
             let measured = final_row(rows, label, view, &method).map_or(0.0, |r| r.mutations_per_s);
             let what = (label, view, method.as_str());

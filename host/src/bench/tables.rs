@@ -59,6 +59,8 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
             let text: String = (0..columns.len())
                 .map(|c| match (t, cells[i][c]) {
                     (_, None) => " — |".to_string(),
+                    // Paths per second are not candidates per second of a chain.
+                    (1, Some(_)) if m == "pt" => " — |".to_string(),
                     (1, Some(x)) => {
                         let naive = final_interval(rows, &columns[c].0, columns[c].1, "naive", value);
                         naive.map_or(" — |".to_string(), |n| format!(" {:.2}× |", x.mean / n.mean))

@@ -24,8 +24,8 @@ pub struct Args {
     /// glTF path, with an optional view: atrium:2.
     #[arg(long, value_delimiter = ',', default_value = "cornell,atrium:1,atrium:2,nave,sunblind", value_parser = scene_view)]
     pub scenes: Vec<(String, u32)>,
-    /// Methods, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "naive,s2,s3,s4,s5,s6,rc2,rc4,rc8,rc16,rc32,rc64", value_parser = |s: &str| s.parse::<Method>())]
+    /// Methods, comma-separated (pt: the path tracer).
+    #[arg(long, value_delimiter = ',', default_value = "pt,naive,s2,s3,s4,s5,s6,rc2,rc4,rc8,rc16,rc32,rc64", value_parser = |s: &str| s.parse::<Method>())]
     pub methods: Vec<Method>,
     /// Render seconds per method (errors are also measured at 1, 2, 4, … s).
     #[arg(long, default_value_t = 8.0, value_parser = positive_f64)]

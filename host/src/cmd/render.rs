@@ -20,14 +20,15 @@ pub struct Args {
     #[command(flatten)]
     #[allow(missing_docs)] // flattened: documented on SceneArgs
     pub scene: SceneArgs,
-    /// naive, s<d> (speculative tree of depth d = 1..8; s1 is naive), or rc<l> (reject chain of
-    /// l = 2..64 proposals).
+    /// pt (the path tracer), naive, s<d> (speculative tree of depth d = 1..8; s1 is naive), or
+    /// rc<l> (reject chain of l = 2..64 proposals).
     #[arg(long, default_value = "naive", value_parser = |s: &str| s.parse::<Method>())]
     pub method: Method,
     /// Stop after this many seconds of iterations (after the bootstrap).
     #[arg(long, value_parser = positive_f64, conflicts_with = "mutations_per_pixel", allow_negative_numbers = true)]
     pub time: Option<f64>,
-    /// Stop after this many candidate paths per pixel (default 64 when --time is absent).
+    /// Stop after this many candidate paths per pixel (default 64 when --time is absent); for
+    /// pt, samples per pixel (rounded up to whole rounds).
     #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
     pub mutations_per_pixel: Option<f64>,
     #[command(flatten)]
@@ -52,7 +53,8 @@ pub struct Args {
     #[arg(long, value_parser = |s: &str| s.parse::<Shard>())]
     pub shard: Option<Shard>,
     /// Candidate paths traced per iteration, divided among chains (default: 262144 on a GPU,
-    /// 16384 on a CPU Vulkan device such as lavapipe, 4096 with --device cpu).
+    /// 16384 on a CPU Vulkan device such as lavapipe, 4096 with --device cpu); for pt, paths per
+    /// iteration, as whole samples per pixel (at least one).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_777_216))]
     pub candidates: Option<u32>,
     /// Bootstrap samples for the normalisation and the chains' start states.
@@ -147,7 +149,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         mutation: MutationParams { p_large: a.p_large, ..Default::default() },
         shard: a.shard.unwrap_or(Shard::WHOLE),
     };
-    if settings.shard.count > settings.chains() {
+    if settings.method != Method::PathTracer && settings.shard.count > settings.chains() {
         anyhow::bail!(
             "--shard {}: the render has only {} chains to split; use at most {} shards or more --candidates",
             settings.shard,
@@ -163,18 +165,28 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     println!("device: {} — {why}", backend.describe());
     let buffers_mib = crate::passes::buffers::device_bytes(&scene, &params) as f64 / 1048576.0;
+    let work = match settings.method {
+        Method::PathTracer => format!(
+            "{} samples per pixel an iteration{}",
+            settings.samples_per_round(),
+            match a.shard {
+                Some(k) => format!("; shard {k}: every {}th round", k.count),
+                None => String::new(),
+            }
+        ),
+        _ => format!(
+            "{} chains{}, {} candidates per iteration",
+            params.chains,
+            match a.shard {
+                Some(k) => format!(" of {}: shard {k}", settings.chains()),
+                None => String::new(),
+            },
+            params.candidates
+        ),
+    };
     println!(
-        "rendering {} at {}×{} with {} ({} chains{}, {} candidates per iteration)",
-        scene.name,
-        settings.width,
-        settings.height,
-        settings.method,
-        params.chains,
-        match a.shard {
-            Some(k) => format!(" of {}: shard {k}", settings.chains()),
-            None => String::new(),
-        },
-        params.candidates
+        "rendering {} at {}×{} with {} ({work})",
+        scene.name, settings.width, settings.height, settings.method
     );
     let bar = ProgressBar::new(1000);
     bar.set_style(
@@ -225,7 +237,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             )
         }
     };
-    print_summary(&result.stats, settings.mutation.p_large);
+    print_summary(&result, settings.method, settings.mutation.p_large);
     if on_device {
         println!("device buffers       {buffers_mib:.1} MiB");
     }
@@ -240,7 +252,22 @@ pub fn run(a: Args) -> anyhow::Result<()> {
 }
 
 /// The closing summary of a render or a merge.
-pub fn print_summary(s: &render::Stats, p_large: f32) {
+pub fn print_summary(r: &render::Rendered, method: Method, p_large: f32) {
+    let s = &r.stats;
+    if method == Method::PathTracer {
+        let pixels = r.width as f64 * r.height as f64;
+        println!("iterations           {}", s.iterations);
+        println!("paths traced         {}", s.candidates);
+        println!("samples per pixel    {}", s.candidates as f64 / pixels);
+        if s.render_seconds > 0.0 {
+            println!("paths/s              {:.3} M", s.candidates as f64 / s.render_seconds / 1e6);
+        }
+        if let Some(seconds) = s.compile_seconds {
+            println!("kernels compiled     {seconds:.2} s (before the clock)");
+        }
+        println!("render time          {:.2} s", s.render_seconds);
+        return;
+    }
     println!("chains               {}", s.chains);
     println!("iterations           {}", s.iterations);
     println!("candidates traced    {}", s.candidates);

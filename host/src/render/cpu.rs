@@ -12,6 +12,7 @@
 use glam::Vec4;
 use rayon::prelude::*;
 use shared::mmlt::{ChainState, RenderParams};
+use shared::path_tracer::ReferenceParams;
 use shared::ray_caster::RayCaster;
 use shared::scene::Scene;
 
@@ -105,12 +106,15 @@ impl Group<'_> {
 
 /// The host backend: groups of chains on a pool of threads.
 pub struct CpuBackend<'a> {
+    scene: Scene<'a, HostCaster<'a>>,
     groups: Vec<Group<'a>>,
     pool: rayon::ThreadPool,
     threads: usize,
     chains: u32,
     dims: u32,
     image: Vec<f64>,
+    /// The path tracer's f32 round, as the device's image holds it.
+    round: Vec<f32>,
 }
 
 /// Threads of `--threads` when absent: every core.
@@ -139,12 +143,14 @@ impl<'a> CpuBackend<'a> {
             first += chains;
         }
         Ok(Self {
+            scene: scene.shared(),
             groups,
             pool: thread_pool(threads)?,
             threads,
             chains: params.chains,
             dims: params.dims,
             image: vec![0.0; (params.width * params.height) as usize * 3],
+            round: Vec::new(),
         })
     }
 }
@@ -192,6 +198,19 @@ impl CpuBackend<'_> {
 }
 
 impl Backend for CpuBackend<'_> {
+    /// The reference pass's body over the pixels on the pool, into an f32 round (as the device
+    /// sums a pixel's samples), added to the f64 image.
+    fn trace_paths(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
+        self.round.clear();
+        self.round.resize(self.image.len(), 0.0);
+        let (scene, round) = (self.scene, &mut self.round);
+        self.pool.install(|| passes::reference::cpu(params, scene, round));
+        for (a, v) in self.image.iter_mut().zip(&self.round) {
+            *a += *v as f64;
+        }
+        Ok(())
+    }
+
     fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError> {
         let n = self.chains as usize;
         for g in &mut self.groups {
@@ -246,7 +265,7 @@ impl Backend for CpuBackend<'_> {
     }
 
     fn describe(&self) -> String {
-        let caster = self.groups.first().map_or("-", |g| g.buffers.scene.caster.describe());
+        let caster = self.scene.caster.describe();
         format!(
             "CPU ({} thread{}; the kernel bodies on the host, rays through {caster})",
             self.threads,

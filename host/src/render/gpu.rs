@@ -1,6 +1,8 @@
-//! The device backend: the render's buffers on the GPU and the five passes over them.
+//! The device backend: the render's buffers on the GPU and the five passes over them, or the
+//! path tracer's pass over the scene and the same image.
 
 use shared::mmlt::{ChainState, RenderParams};
+use shared::path_tracer::ReferenceParams;
 
 use super::{Accumulation, Backend, RenderError};
 use crate::gpu::Gpu;
@@ -15,6 +17,8 @@ pub struct GpuBackend {
     buffers: GpuBuffers,
     /// One pass per stage, in [`Stage::ITERATION`] order.
     passes: Vec<Pass>,
+    /// The path tracer's parameters and pass (made at its first use).
+    paths: Option<(wgpu::Buffer, Pass)>,
     pixels: usize,
     chains: u32,
     dims: u32,
@@ -54,7 +58,34 @@ impl GpuBackend {
         let pixels = (params.width * params.height) as usize;
         let buffers = GpuBuffers::new(&mut OnDevice(gpu.clone()), scene, params);
         let passes = Stage::ITERATION.iter().map(|s| s.pass(&gpu, &buffers)).collect::<Result<_, _>>()?;
-        Ok(Self { gpu, buffers, passes, pixels, chains: params.chains, dims: params.dims })
+        Ok(Self { gpu, buffers, passes, paths: None, pixels, chains: params.chains, dims: params.dims })
+    }
+
+    /// Runs the path tracer's pass over `pixels` invocations with `params`, and waits.
+    fn dispatch_paths(&mut self, params: &ReferenceParams, pixels: u32) -> Result<(), RenderError> {
+        if self.paths.is_none() {
+            let buffer = self.gpu.storage_from("path tracer params", &[*params]);
+            let scene = &self.buffers.scene;
+            let pass = crate::passes::reference::gpu(
+                &self.gpu,
+                [
+                    &buffer,
+                    &scene.nodes,
+                    &scene.triangles,
+                    &scene.materials,
+                    &scene.lights,
+                    &self.buffers.image,
+                ],
+            )?;
+            self.paths = Some((buffer, pass));
+        }
+        let (buffer, pass) = self.paths.as_ref().expect("made above");
+        self.gpu.queue.write_buffer(buffer, 0, bytemuck::bytes_of(params));
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        pass.encode(&self.gpu, &mut encoder, pixels);
+        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.wait()?;
+        Ok(())
     }
 
     #[allow(missing_docs)] // named for what it returns
@@ -114,6 +145,19 @@ impl Backend for GpuBackend {
         self.dispatch(&idle, &all)?;
         self.gpu.save_pipeline_cache();
         Ok(())
+    }
+
+    /// One workgroup over an empty image (its invocations return at once).
+    fn warm_up_paths(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
+        self.dispatch_paths(&ReferenceParams { width: 0, height: 0, ..*params }, 1)?;
+        self.gpu.save_pipeline_cache();
+        Ok(())
+    }
+
+    /// The reference pass adds each pixel's samples to the image's f32 (no atomics: one
+    /// invocation a pixel).
+    fn trace_paths(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
+        self.dispatch_paths(params, params.width * params.height)
     }
 
     fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError> {

@@ -14,11 +14,12 @@ pub use accumulation::Accumulation;
 pub use method::Method;
 pub use renderer::{normalisation, render, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};
 pub use settings::{
-    base_params, default_candidates, Budget, Settings, Shard, DEFAULT_BOOTSTRAP, DEFAULT_MAX_DEPTH,
-    DEFAULT_MUTATIONS_PER_PIXEL, DEFAULT_WIDTH,
+    base_params, default_candidates, path_params, Budget, Settings, Shard, DEFAULT_BOOTSTRAP,
+    DEFAULT_MAX_DEPTH, DEFAULT_MUTATIONS_PER_PIXEL, DEFAULT_WIDTH,
 };
 
 use shared::mmlt::{ChainState, RenderParams};
+use shared::path_tracer::ReferenceParams;
 
 /// Why a render failed.
 #[derive(Debug, thiserror::Error)]
@@ -37,7 +38,8 @@ pub enum RenderError {
     Threads(String),
 }
 
-/// Where the passes run: the same five kernels on the device or on CPU threads.
+/// Where the passes run: the same kernels on the device or on CPU threads — the five stages
+/// of the Metropolis methods' iterations, or the path tracer's rounds.
 pub trait Backend {
     /// Whether the backend compiles its kernels at run time (a Vulkan driver does; the CPU
     /// backend's kernels are compiled Rust).
@@ -49,6 +51,13 @@ pub trait Backend {
     fn warm_up(&mut self, _params: &RenderParams) -> Result<(), RenderError> {
         Ok(())
     }
+    /// Prepares the path tracer's kernel (`--method pt`), as [`Backend::warm_up`] the chains'.
+    fn warm_up_paths(&mut self, _params: &ReferenceParams) -> Result<(), RenderError> {
+        Ok(())
+    }
+    /// One round of the path tracer: `params.samples` paths through every pixel, added to the
+    /// image that the next [`Backend::drain`] moves.
+    fn trace_paths(&mut self, params: &ReferenceParams) -> Result<(), RenderError>;
     /// Sets the chains' samples (SoA) and states.
     fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError>;
     /// One iteration of every chain.

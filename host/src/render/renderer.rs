@@ -3,14 +3,19 @@
 //! [`DRAIN_EVERY`] iterations. The image is `b · pixels · S_j / W`, where S_j is the sum of the
 //! splats in pixel j, W the total splat weight, and b the pooled estimate of the bootstrap's
 //! and every large step's targets (`shared::normalisation`).
+//!
+//! The path tracer (`--method pt`) runs in the same loop: no bootstrap, an iteration is a
+//! round of whole samples per pixel, S_j the sum of pixel j's samples, W the paths traced and
+//! b = 1, so that the same formula is each pixel's mean.
 
 use std::time::Instant;
 
 use shared::mmlt::RenderParams;
 use shared::normalisation::{estimate, Estimate, Moments};
+use shared::path_tracer::ReferenceParams;
 
 use super::bootstrap::bootstrap;
-use super::{base_params, Accumulation, Backend, Budget, RenderError, Settings};
+use super::{base_params, path_params, Accumulation, Backend, Budget, Method, RenderError, Settings};
 use crate::scene::SceneData;
 
 /// What a render measured.
@@ -73,23 +78,31 @@ pub struct Rendered {
     pub bootstrap: Moments,
 }
 
-/// b of a render with these bootstrap moments and accumulation.
+/// b of a Metropolis render with these bootstrap moments and accumulation.
 pub fn normalisation(max_depth: u32, bootstrap: &Moments, acc: &Accumulation) -> Estimate {
     estimate(max_depth, &bootstrap.merged(acc.large_steps))
 }
 
+/// b of a render by `method`: the Metropolis methods' [`normalisation`], exactly 1 for the
+/// path tracer (its splats are the samples themselves).
+fn method_normalisation(method: Method, max_depth: u32, bootstrap: &Moments, acc: &Accumulation) -> Estimate {
+    match method {
+        Method::PathTracer => Estimate { b: 1.0, standard_error: 0.0, samples: 0 },
+        _ => normalisation(max_depth, bootstrap, acc),
+    }
+}
+
 impl Rendered {
-    /// The normalised image `b · pixels · S_j / W` of an accumulation; `stats` gets b, its
-    /// error, the steps, acceptance and NaN/Inf counts from it.
+    /// The normalised image `b · pixels · S_j / W` of an accumulation of a render by
+    /// `method`; `stats` gets b, its error, the steps, acceptance and NaN/Inf counts from it.
     pub fn from_accumulation(
-        width: u32,
-        height: u32,
-        max_depth: u32,
+        (width, height): (u32, u32),
+        (method, max_depth): (Method, u32),
         bootstrap: Moments,
         accumulation: Accumulation,
         mut stats: Stats,
     ) -> Rendered {
-        let b = normalisation(max_depth, &bootstrap, &accumulation);
+        let b = method_normalisation(method, max_depth, &bootstrap, &accumulation);
         let pixels = width as f64 * height as f64;
         let w = accumulation.weight;
         let scale = if w > 0.0 { b.b * pixels / w } else { 0.0 };
@@ -148,6 +161,8 @@ pub struct Renderer<'a> {
     backend: &'a mut dyn Backend,
     settings: Settings,
     base: RenderParams,
+    /// The path tracer's parameters (`--method pt`), None for the Metropolis methods.
+    paths: Option<ReferenceParams>,
     bootstrap: Moments,
     acc: Accumulation,
     stats: Stats,
@@ -157,7 +172,7 @@ pub struct Renderer<'a> {
 impl<'a> Renderer<'a> {
     /// Prepares the backend's kernels (telling `observer`), bootstraps (on the host: the same
     /// for every shard and device) and starts this shard's chains. None of it counts as render
-    /// time.
+    /// time. The path tracer only prepares its kernel.
     pub fn start(
         scene: &SceneData,
         s: &Settings,
@@ -165,45 +180,65 @@ impl<'a> Renderer<'a> {
         observer: &mut dyn Observer,
     ) -> Result<Self, RenderError> {
         let base = base_params(scene, s);
+        let paths = (s.method == Method::PathTracer).then(|| path_params(scene, s));
         let compile_seconds = if backend.compiles_kernels() {
             let compile = Instant::now();
             observer.compiling();
-            backend.warm_up(&base)?;
+            match &paths {
+                Some(p) => backend.warm_up_paths(p)?,
+                None => backend.warm_up(&base)?,
+            }
             observer.compiled();
             Some(compile.elapsed().as_secs_f64())
         } else {
             None
         };
-        let boot = match backend.thread_pool() {
-            Some(pool) => pool.install(|| bootstrap(scene, s))?,
-            None => bootstrap(scene, s)?,
-        };
-        backend.start(&boot.chain_u, &boot.chains)?;
-        let stats = Stats {
-            chains: base.chains,
-            compile_seconds,
-            bootstrap_seconds: boot.seconds,
-            ..Default::default()
-        };
+        let mut stats = Stats { compile_seconds, ..Default::default() };
+        let mut moments = Moments::default();
+        if paths.is_none() {
+            let boot = match backend.thread_pool() {
+                Some(pool) => pool.install(|| bootstrap(scene, s))?,
+                None => bootstrap(scene, s)?,
+            };
+            backend.start(&boot.chain_u, &boot.chains)?;
+            stats.chains = base.chains;
+            stats.bootstrap_seconds = boot.seconds;
+            moments = boot.moments;
+        }
         let pixels = s.width as usize * s.height as usize;
         Ok(Self {
             backend,
             settings: s.clone(),
             base,
-            bootstrap: boot.moments,
+            paths,
+            bootstrap: moments,
             acc: Accumulation::new(pixels),
             stats,
             pending: 0,
         })
     }
 
-    /// One iteration of every chain; its wall time is added to the render time.
+    /// One iteration of every chain (or one round of the path tracer); its wall time is added
+    /// to the render time.
     pub fn iterate(&mut self) -> Result<(), RenderError> {
         let start = Instant::now();
-        let params = self.next_params();
-        self.backend.iterate(&params)?;
+        match self.paths {
+            Some(p) => {
+                let round = self.settings.round(self.stats.iterations);
+                self.backend.trace_paths(&ReferenceParams { round, ..p })?;
+                // Every path is a sample of weight one: W counts them.
+                let paths = p.samples as u64 * p.width as u64 * p.height as u64;
+                self.acc.candidates += paths;
+                self.acc.weight += paths as f64;
+                self.acc.accepted += paths as f64;
+            }
+            None => {
+                let params = self.next_params();
+                self.backend.iterate(&params)?;
+                self.acc.candidates += self.base.candidates as u64;
+            }
+        }
         self.stats.iterations += 1;
-        self.acc.candidates += self.base.candidates as u64;
         self.pending += 1;
         if self.pending >= DRAIN_EVERY {
             self.drain()?;
@@ -238,9 +273,8 @@ impl<'a> Renderer<'a> {
         self.stats.render_seconds += start.elapsed().as_secs_f64();
         let s = &self.settings;
         Ok(Rendered::from_accumulation(
-            s.width,
-            s.height,
-            s.max_depth,
+            (s.width, s.height),
+            (s.method, s.max_depth),
             self.bootstrap,
             self.acc.clone(),
             self.stats.clone(),
@@ -260,18 +294,18 @@ pub fn render(
         Budget::MutationsPerPixel(m) => s.iterations_for(m),
         Budget::Seconds(_) => u64::MAX,
     };
-    loop {
+    // The fraction of the budget used (a path tracer's shard may have no round of its own:
+    // more shards than rounds).
+    let used = |stats: &Stats| match s.budget {
+        Budget::Seconds(t) => stats.render_seconds / t,
+        Budget::MutationsPerPixel(_) if iterations == 0 => 1.0,
+        Budget::MutationsPerPixel(_) => stats.iterations as f64 / iterations as f64,
+    };
+    while used(r.stats()) < 1.0 && !observer.stop_requested() {
         r.iterate()?;
         let stats = r.stats();
-        let fraction = match s.budget {
-            Budget::Seconds(t) => stats.render_seconds / t,
-            Budget::MutationsPerPixel(_) => stats.iterations as f64 / iterations as f64,
-        };
-        if fraction >= 1.0 || observer.stop_requested() {
-            break;
-        }
         if stats.iterations.is_multiple_of(DRAIN_EVERY) {
-            observer.progress(fraction.min(1.0));
+            observer.progress(used(stats).min(1.0));
             if observer.checkpoint_due(stats.render_seconds) {
                 let image = r.snapshot()?;
                 observer.checkpoint(&image);

@@ -6,6 +6,7 @@ use std::str::FromStr;
 
 use shared::mmlt::{sample_dimensions, RenderParams, METHOD_REJECT_CHAIN, METHOD_TREE, MODE_CHAINS};
 use shared::mutation::MutationParams;
+use shared::path_tracer::ReferenceParams;
 
 use super::Method;
 use crate::scene::SceneData;
@@ -96,9 +97,12 @@ pub struct Settings {
 
 impl Settings {
     /// Number of chains of the whole render: the candidates per iteration divided by the
-    /// candidates per chain.
+    /// candidates per chain (none for the path tracer).
     pub fn chains(&self) -> u32 {
-        (self.candidates / self.method.candidates_per_chain()).max(1)
+        match self.method {
+            Method::PathTracer => 0,
+            m => (self.candidates / m.candidates_per_chain()).max(1),
+        }
     }
 
     /// Global indices of the chains this shard renders.
@@ -106,9 +110,28 @@ impl Settings {
         self.shard.chains(self.chains())
     }
 
+    /// The path tracer's samples per pixel in one iteration (a round): the candidates per
+    /// iteration over the pixels, at least one.
+    pub fn samples_per_round(&self) -> u32 {
+        (self.candidates / (self.width * self.height).max(1)).max(1)
+    }
+
+    /// The path tracer's round that this shard traces in its iteration `iteration`: the
+    /// shards take the rounds in turns (shard K of N rounds K − 1, K − 1 + N, …), so their
+    /// parts hold disjoint samples and merge into the unsplit render's.
+    pub fn round(&self, iteration: u64) -> u32 {
+        (iteration * self.shard.count as u64 + self.shard.index as u64 - 1) as u32
+    }
+
     /// Iterations a `--mutations-per-pixel` budget runs: as many as the whole render needs to
-    /// trace that many candidates per pixel (the same for every shard).
+    /// trace that many candidates per pixel (the same for every shard of the chains; for the
+    /// path tracer, this shard's share of the rounds of whole samples per pixel that reach it).
     pub fn iterations_for(&self, mutations_per_pixel: f64) -> u64 {
+        if self.method == Method::PathTracer {
+            let rounds = ((mutations_per_pixel / self.samples_per_round() as f64).ceil() as u64).max(1);
+            let (k, n) = (self.shard.index as u64, self.shard.count as u64);
+            return (rounds + n - k) / n;
+        }
         let per_iteration = (self.chains() * self.method.candidates_per_chain()) as f64;
         let pixels = self.width as f64 * self.height as f64;
         ((mutations_per_pixel * pixels / per_iteration).ceil() as u64).max(1)
@@ -125,9 +148,13 @@ pub fn default_candidates(gpu: Option<&crate::gpu::Gpu>) -> u32 {
     }
 }
 
-/// The parameters shared by every dispatch of this shard's chains.
+/// The parameters shared by every dispatch of this shard's chains. The path tracer runs no
+/// chains; its backends keep the buffers of one idle chain.
 pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
-    let chains = s.shard_chains();
+    let chains = match s.method {
+        Method::PathTracer => 0..1,
+        _ => s.shard_chains(),
+    };
     let n = chains.end - chains.start;
     RenderParams {
         camera: scene.camera(s.width, s.height),
@@ -140,7 +167,7 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
         candidates: n * s.method.candidates_per_chain(),
         tree_depth: match s.method {
             Method::Tree(d) => d,
-            Method::RejectChain(_) => 1,
+            Method::RejectChain(_) | Method::PathTracer => 1,
         },
         iteration: 0,
         seed: s.seed,
@@ -149,14 +176,32 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
         sample_offset: 0,
         epsilon: scene.epsilon(),
         method: match s.method {
-            Method::Tree(_) => METHOD_TREE,
+            Method::Tree(_) | Method::PathTracer => METHOD_TREE,
             Method::RejectChain(_) => METHOD_REJECT_CHAIN,
         },
         reject_length: match s.method {
             Method::RejectChain(l) => l,
-            Method::Tree(_) => 0,
+            Method::Tree(_) | Method::PathTracer => 0,
         },
         chain_offset: chains.start,
+    }
+}
+
+/// The path tracer's parameters for this render (`round` 0; the renderer sets each
+/// iteration's).
+pub fn path_params(scene: &SceneData, s: &Settings) -> ReferenceParams {
+    let samples = s.samples_per_round();
+    ReferenceParams {
+        camera: scene.camera(s.width, s.height),
+        width: s.width,
+        height: s.height,
+        max_depth: s.max_depth,
+        seed: s.seed,
+        light_count: scene.lights.len() as u32,
+        epsilon: scene.epsilon(),
+        samples,
+        round: 0,
+        samples_per_round: samples,
     }
 }
 
@@ -179,6 +224,36 @@ mod tests {
                 assert_eq!(next, chains);
             }
         }
+    }
+
+    /// The path tracer's shards take the rounds in turns: together, every round of the unsplit
+    /// render's budget exactly once.
+    #[test]
+    fn path_tracer_shards_share_the_rounds() {
+        let whole = Settings {
+            width: 10,
+            height: 6,
+            max_depth: 5,
+            seed: 1,
+            method: Method::PathTracer,
+            budget: Budget::MutationsPerPixel(17.0),
+            candidates: 120,
+            bootstrap_samples: 1,
+            mutation: MutationParams::default(),
+            shard: Shard::WHOLE,
+        };
+        assert_eq!(whole.samples_per_round(), 2);
+        assert_eq!(whole.iterations_for(17.0), 9);
+        for count in 1..=11u32 {
+            let mut rounds = Vec::new();
+            for index in 1..=count {
+                let s = Settings { shard: Shard { index, count }, ..whole.clone() };
+                rounds.extend((0..s.iterations_for(17.0)).map(|i| s.round(i)));
+            }
+            rounds.sort();
+            assert_eq!(rounds, (0..9).collect::<Vec<u32>>(), "{count} shards");
+        }
+        assert_eq!(Settings { candidates: 1, ..whole }.samples_per_round(), 1);
     }
 
     #[test]
