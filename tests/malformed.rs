@@ -181,6 +181,7 @@ fn attempt(bytes: &[u8]) -> Result<Result<(), String>, String> {
             bootstrap_samples: 256,
             mutation: Default::default(),
             shard: render::Shard::WHOLE,
+            estimator: render::Estimator::Multiplexed,
         };
         let params = render::base_params(&scene, &s);
         let mut backend = CpuBackend::new(&scene, &params, 1).map_err(|e| e.to_string())?;

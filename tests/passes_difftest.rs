@@ -88,7 +88,7 @@ struct Difftest<'a> {
 }
 
 impl<'a> Difftest<'a> {
-    fn new(gpu: Gpu, method: Method, scene: &'a SceneData) -> Self {
+    fn new(gpu: Gpu, method: Method, estimator: render::Estimator, scene: &'a SceneData) -> Self {
         let s = Settings {
             width: 24,
             height: 16,
@@ -100,6 +100,7 @@ impl<'a> Difftest<'a> {
             bootstrap_samples: 2048,
             mutation: Default::default(),
             shard: render::Shard::WHOLE,
+            estimator,
         };
         let base = render::base_params(scene, &s);
         Difftest {
@@ -355,8 +356,13 @@ impl<'a> Difftest<'a> {
 
 /// Every stage of an iteration, device against CPU, each from the same inputs.
 fn difftest(gpu: Gpu, method: Method) {
+    difftest_estimator(gpu, method, render::Estimator::Multiplexed);
+}
+
+/// [`difftest`] with chains over `estimator`.
+fn difftest_estimator(gpu: Gpu, method: Method, estimator: render::Estimator) {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
-    let mut t = Difftest::new(gpu, method, &scene);
+    let mut t = Difftest::new(gpu, method, estimator, &scene);
     t.bootstrap();
     t.mutate();
     t.trace();
@@ -369,6 +375,15 @@ fn difftest(gpu: Gpu, method: Method) {
 fn naive_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("naive_passes_agree_on_device_and_cpu") {
         difftest(gpu, Method::Tree(1));
+    }
+}
+
+/// The path estimator's stages (`trace` idle, the whole path in `connect`), naive and s3.
+#[test]
+fn path_estimator_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("path_estimator_passes_agree_on_device_and_cpu") {
+        difftest_estimator(gpu.clone(), Method::Tree(1), render::Estimator::Path);
+        difftest_estimator(gpu, Method::Tree(3), render::Estimator::Path);
     }
 }
 
@@ -403,6 +418,7 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
         bootstrap_samples: 64,
         mutation: Default::default(),
         shard: render::Shard::WHOLE,
+        estimator: render::Estimator::Multiplexed,
     };
     let base = render::base_params(&scene, &s);
     let (n, c, dims) = (base.chains as usize, base.candidates as usize, base.dims as usize);
@@ -468,6 +484,7 @@ fn every_pass_binds_what_its_kernel_declares() {
         bootstrap_samples: 192,
         mutation: Default::default(),
         shard: render::Shard::WHOLE,
+        estimator: render::Estimator::Multiplexed,
     };
     let params = render::base_params(&scene, &s);
     let buffers = GpuBuffers::new(&mut OnDevice(gpu.clone()), &scene, &params);
@@ -513,6 +530,7 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
             bootstrap_samples: 1,
             mutation: Default::default(),
             shard: render::Shard::WHOLE,
+            estimator: render::Estimator::Multiplexed,
         };
         let params = render::path_params(&scene, &s);
         let base = render::base_params(&scene, &s);

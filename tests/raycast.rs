@@ -26,6 +26,7 @@ fn candidates(scene: &SceneData, count: u32, max_depth: u32) -> (RenderParams, V
         bootstrap_samples: count,
         mutation: Default::default(),
         shard: render::Shard::WHOLE,
+        estimator: render::Estimator::Multiplexed,
     };
     let params = RenderParams { mode: MODE_BOOTSTRAP, ..render::base_params(scene, &s) };
     let c = params.candidates as usize;

@@ -107,6 +107,7 @@ fn the_reference_and_mmlt_agree_on_the_default_scene() {
                     bootstrap_samples: 1 << 17,
                     mutation: Default::default(),
                     shard: render::Shard::WHOLE,
+                    estimator: render::Estimator::Multiplexed,
                 };
                 let p = render::base_params(&scene, &s);
                 let r =

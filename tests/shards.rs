@@ -16,12 +16,14 @@ fn cornell() -> SceneData {
 }
 
 fn settings(method: &str, shard: Shard) -> Settings {
+    let sampler: render::Sampler = method.parse().unwrap();
     Settings {
         width: 20,
         height: 12,
         max_depth: 4,
         seed: 5,
-        method: method.parse().unwrap(),
+        method: sampler.method,
+        estimator: sampler.estimator,
         budget: Budget::MutationsPerPixel(24.0),
         candidates: 1536,
         bootstrap_samples: 8192,
@@ -52,7 +54,7 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
 #[test]
 fn the_image_is_the_same_for_every_thread_count() {
     let scene = cornell();
-    for method in ["naive", "s3", "rc8"] {
+    for method in ["naive", "s3", "rc8", "path-s2"] {
         let s = settings(method, Shard::WHOLE);
         let one = render_cpu(&scene, &s, 1);
         for threads in [2, 3] {
@@ -114,7 +116,7 @@ fn assert_same_render(whole: &Rendered, merged: &Rendered, tolerance: f64, what:
 #[test]
 fn merged_shards_equal_the_unsplit_render() {
     let scene = cornell();
-    for method in ["naive", "s3", "rc8"] {
+    for method in ["naive", "s3", "rc8", "path-s2"] {
         let s = settings(method, Shard::WHOLE);
         let whole = render_cpu(&scene, &s, 2);
         let parts = parts(&scene, &s, 3, |p| render_cpu(&scene, p, 2));
@@ -196,13 +198,13 @@ fn every_method_refines_b_with_its_large_steps() {
     let (rho, k) = (0.5, 3);
     let scene = furnace(1.0, rho);
     let expected = furnace_radiance(1.0, rho, k);
-    for method in ["naive", "s3", "rc8"] {
+    for method in ["naive", "s3", "rc8", "path-s3"] {
         let mut s = settings(method, Shard::WHOLE);
         s.max_depth = k;
         s.bootstrap_samples = 4096;
         s.budget = Budget::MutationsPerPixel(256.0);
         let r = render_cpu(&scene, &s, 2);
-        let m: Method = method.parse().unwrap();
+        let m = s.method;
         let per_iteration = match m {
             Method::Tree(_) => s.chains() as f64,
             Method::RejectChain(l) => (s.chains() * l) as f64,
@@ -220,7 +222,7 @@ fn every_method_refines_b_with_its_large_steps() {
         s.mutation.p_large = 0.0;
         let r = render_cpu(&scene, &s, 2);
         assert_eq!(r.stats.large_steps, 0);
-        assert_eq!(r.stats.b, render::normalisation(k, &r.bootstrap, &Default::default()).b);
+        assert_eq!(r.stats.b, render::normalisation(s.state_depths(), &r.bootstrap, &Default::default()).b);
     }
 }
 

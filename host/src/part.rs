@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use shared::normalisation::Moments;
 
-use crate::render::{Accumulation, Method, Rendered, Settings, Shard, Stats};
+use crate::render::{Accumulation, Method, Rendered, Sampler, Settings, Shard, Stats};
 
 /// The `format` value of a part written by this version.
 pub const FORMAT: &str = "smlt-part-3";
@@ -42,7 +42,7 @@ pub struct Identity {
     pub max_depth: u32,
     /// The seed every random number of the render is keyed by.
     pub seed: u32,
-    /// The method as printed: `pt`, `naive`, `s<d>` or `rc<l>`.
+    /// The method with its estimator, as printed: `pt`, `naive`, `s<d>`, `rc<l>`, `path-s<d>`, …
     pub method: String,
     /// Candidates per iteration of the whole render (sets the chain count).
     pub candidates: u32,
@@ -75,7 +75,7 @@ impl Identity {
             height: s.height,
             max_depth: s.max_depth,
             seed: s.seed,
-            method: s.method.to_string(),
+            method: s.sampler().to_string(),
             candidates: s.candidates,
             bootstrap_samples: s.bootstrap_samples,
             s1: s.mutation.s1,
@@ -422,7 +422,9 @@ pub fn merge(parts: &[Part]) -> Result<Rendered, PartError> {
     }
     let id = &first.identity;
     let mut acc = Accumulation::new(id.width as usize * id.height as usize);
-    let method = id.method.parse::<Method>().map_err(|e| PartError::Damaged(show(first), e))?;
+    let sampler = id.method.parse::<Sampler>().map_err(|e| PartError::Damaged(show(first), e))?;
+    let method = sampler.method;
+    let depths = shared::mmlt::state_depths(sampler.estimator.code(), id.max_depth);
     let chains = match method {
         Method::PathTracer => 0,
         m => (id.candidates / m.candidates_per_chain()).max(1),
@@ -433,11 +435,5 @@ pub fn merge(parts: &[Part]) -> Result<Rendered, PartError> {
         stats.iterations = stats.iterations.max(p.iterations);
         stats.render_seconds = stats.render_seconds.max(p.render_seconds);
     }
-    Ok(Rendered::from_accumulation(
-        (id.width, id.height),
-        (method, id.max_depth),
-        first.bootstrap,
-        acc,
-        stats,
-    ))
+    Ok(Rendered::from_accumulation((id.width, id.height), (method, depths), first.bootstrap, acc, stats))
 }

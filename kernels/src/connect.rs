@@ -1,11 +1,15 @@
 //! The `connect` pass: one invocation per candidate connects the end points of its subpaths
 //! with one shadow ray, weighs the path with the balance heuristic, and stores the packed
-//! contribution (F in rgb, the pixel index as the bits of w; seed §5.3).
+//! contribution (F in rgb, the pixel index as the bits of w; seed §5.3). For the path
+//! estimator it traces the candidate's whole path instead (`shared::pssmlt::path_candidate`).
 
 use shared::bsdf::Material;
 use shared::cwbvh::{WideBvh, WideNode};
 use shared::light::LightEntry;
-use shared::mmlt::{connect_candidate, pack_connection, PathInfo, PathVertex, RenderParams, Samples};
+use shared::mmlt::{
+    connect_candidate, pack_connection, PathInfo, PathVertex, RenderParams, Samples, ESTIMATOR_PATH,
+};
+use shared::pssmlt::path_candidate;
 use shared::ray_caster::RayCaster;
 use shared::scene::Scene;
 use shared::triangle::Triangle;
@@ -27,6 +31,10 @@ pub fn connect<R: RayCaster>(
         return;
     }
     let samples = Samples { candidate: k, count: params.candidates };
+    if params.estimator == ESTIMATOR_PATH {
+        contributions[k as usize] = path_candidate(params, scene, cand_u, samples);
+        return;
+    }
     let connection = connect_candidate(params, scene, cand_u, samples, &paths[k as usize], vertices);
     contributions[k as usize] = pack_connection(&connection);
 }

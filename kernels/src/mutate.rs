@@ -7,12 +7,12 @@
 //! the chain's (`shared::mutation::large_step_depth`). In bootstrap mode every candidate is a
 //! fresh independent sample of depth `shared::normalisation::bootstrap_depth(index)`. Random numbers
 //! are keyed by the chain's render-wide index (`RenderParams::global_chain`). Groups of four dimensions
-//! that a candidate's depth never reads (`shared::mmlt::dimensions_used`) are left as they are.
+//! that a candidate's depth never reads (`RenderParams::dimensions_used`) are left as they are.
+//! The path estimator's chains (`shared::pssmlt`) span every depth: their depth stays max_depth
+//! and every dimension is mutated.
 
 use shared::layout::soa_index;
-use shared::mmlt::{
-    bootstrap_key, dimensions_used, ChainState, RenderParams, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP,
-};
+use shared::mmlt::{bootstrap_key, ChainState, RenderParams, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP};
 use shared::mutation::{
     descends_from_level_one, is_large_step, is_reject_large_step, large_step_depth, reject_chain_samples,
     tree_candidate_sample, tree_level_uniforms,
@@ -39,7 +39,8 @@ pub fn mutate(
     let candidates = params.candidates;
     let groups = params.dims.div_ceil(4);
     if params.mode == MODE_BOOTSTRAP {
-        cand_depth[k as usize] = bootstrap_depth(params.sample_offset + k, params.max_depth);
+        cand_depth[k as usize] =
+            params.candidate_depth(true, bootstrap_depth(params.sample_offset + k, params.max_depth), 0);
         let key = bootstrap_key(params.seed, params.sample_offset + k);
         let mut group = 0;
         while group < groups {
@@ -64,20 +65,17 @@ pub fn mutate(
     if params.method == METHOD_REJECT_CHAIN {
         // Proposal j of the reject chain: its own mutation of the current state.
         let large = is_reject_large_step(params.seed, global, params.iteration, j, params.mutation.p_large);
-        let depth = if large {
-            large_step_depth(
-                params.seed,
-                global,
-                params.iteration,
-                rng::CONTROL_REJECT_DEPTH + j,
-                params.max_depth,
-            )
-        } else {
-            chains[chain as usize].depth
-        };
+        let fresh = large_step_depth(
+            params.seed,
+            global,
+            params.iteration,
+            rng::CONTROL_REJECT_DEPTH + j,
+            params.max_depth,
+        );
+        let depth = params.candidate_depth(large, fresh, chains[chain as usize].depth);
         cand_depth[k as usize] = depth;
         while group < groups {
-            if !dimensions_used(4 * group, 4, depth, params.max_depth) {
+            if !params.dimensions_used(4 * group, 4, depth) {
                 group += 1;
                 continue;
             }
@@ -98,14 +96,12 @@ pub fn mutate(
         return;
     }
     let large = is_large_step(params.seed, global, params.iteration, params.mutation.p_large);
-    let depth = if large && descends_from_level_one(j) {
-        large_step_depth(params.seed, global, params.iteration, rng::CONTROL_DEPTH, params.max_depth)
-    } else {
-        chains[chain as usize].depth
-    };
+    let fresh = large_step_depth(params.seed, global, params.iteration, rng::CONTROL_DEPTH, params.max_depth);
+    let depth =
+        params.candidate_depth(large && descends_from_level_one(j), fresh, chains[chain as usize].depth);
     cand_depth[k as usize] = depth;
     while group < groups {
-        if !dimensions_used(4 * group, 4, depth, params.max_depth) {
+        if !params.dimensions_used(4 * group, 4, depth) {
             group += 1;
             continue;
         }

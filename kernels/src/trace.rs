@@ -1,10 +1,11 @@
 //! The `trace` pass: one invocation per candidate chooses the MMLT technique and traces the
-//! camera and light subpaths into the vertex buffer (`shared::mmlt::trace_candidate`).
+//! camera and light subpaths into the vertex buffer (`shared::mmlt::trace_candidate`). The
+//! path estimator (`shared::pssmlt`) has nothing to trace here.
 
 use shared::bsdf::Material;
 use shared::cwbvh::{WideBvh, WideNode};
 use shared::light::LightEntry;
-use shared::mmlt::{trace_candidate, PathInfo, PathVertex, RenderParams, Samples};
+use shared::mmlt::{trace_candidate, PathInfo, PathVertex, RenderParams, Samples, ESTIMATOR_PATH};
 use shared::ray_caster::RayCaster;
 use shared::scene::Scene;
 use shared::triangle::Triangle;
@@ -23,7 +24,8 @@ pub fn trace<R: RayCaster>(
     paths: &mut [PathInfo],
 ) {
     let k = k as u32;
-    if k >= params.candidates {
+    // The path estimator traces its whole path in `connect`.
+    if k >= params.candidates || params.estimator == ESTIMATOR_PATH {
         return;
     }
     let depth = cand_depth[k as usize];

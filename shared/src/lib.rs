@@ -17,6 +17,7 @@
 //!   device's caster (a compressed 8-wide BVH); [`scene`]: what the kernels read of a scene;
 //! - [`mmlt`]: Multiplexed MLT path sampling (the trace and connect stages);
 //! - [`path_tracer`]: the independent reference estimator;
+//! - [`pssmlt`]: Metropolis chains over the path tracer's estimate (the path estimator);
 //! - [`rays`]: ray queries as data, for the bench's bare ray throughput.
 #![cfg_attr(target_arch = "spirv", no_std)]
 #![deny(missing_docs)]
@@ -32,6 +33,7 @@ pub mod mmlt;
 pub mod mutation;
 pub mod normalisation;
 pub mod path_tracer;
+pub mod pssmlt;
 pub mod ray_caster;
 pub mod rays;
 pub mod reject_chain;

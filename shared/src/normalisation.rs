@@ -95,9 +95,9 @@ impl Moments {
 #[cfg(not(target_arch = "spirv"))]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Estimate {
-    /// `(max_depth + 1) · mean(c)`.
+    /// `depths · mean(c)`.
     pub b: f64,
-    /// `(max_depth + 1) · sd(c) / √n`, from the samples' spread.
+    /// `depths · sd(c) / √n`, from the samples' spread.
     pub standard_error: f64,
     /// Samples pooled.
     pub samples: u64,
@@ -115,16 +115,18 @@ impl Estimate {
     }
 }
 
-/// b = (max_depth + 1) · mean(c) over `m`, and its standard error from the sample variance.
+/// b = depths · mean(c) over `m`, and its standard error from the sample variance; `depths`
+/// is how many path depths a chain state spans (`crate::mmlt::state_depths`: max_depth + 1
+/// for the multiplexed estimator, 1 for the path estimator).
 #[cfg(not(target_arch = "spirv"))]
-pub fn estimate(max_depth: u32, m: &Moments) -> Estimate {
+pub fn estimate(depths: u32, m: &Moments) -> Estimate {
     if m.count == 0 {
         return Estimate::default();
     }
     let n = m.count as f64;
     let mean = m.sum / n;
     let variance = ((m.sum_sq - n * mean * mean) / (n - 1.0).max(1.0)).max(0.0);
-    let scale = max_depth as f64 + 1.0;
+    let scale = depths as f64;
     Estimate { b: scale * mean, standard_error: scale * (variance / n).sqrt(), samples: m.count }
 }
 
@@ -169,7 +171,7 @@ mod tests {
         let n = v.len() as f64;
         let mean = v.iter().sum::<f64>() / n;
         let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-        let e = estimate(3, &m);
+        let e = estimate(4, &m);
         assert!((e.b - 4.0 * mean).abs() < 1e-12);
         assert!((e.standard_error - 4.0 * (var / n).sqrt()).abs() < 1e-12);
         assert_eq!(e.samples, 6);
@@ -199,7 +201,7 @@ mod tests {
         let pooled = a.merged(b);
         assert_eq!(pooled.count, all.count);
         assert!((pooled.sum - all.sum).abs() < 1e-6 * all.sum);
-        let (ea, ep) = (estimate(0, &a), estimate(0, &pooled));
+        let (ea, ep) = (estimate(1, &a), estimate(1, &pooled));
         let ratio = ea.standard_error / ep.standard_error;
         assert!((ratio - 2.0).abs() < 0.02, "4× the samples: se ratio {ratio}");
         // Uniform on [0, 2): mean 1, sd 2/√12.

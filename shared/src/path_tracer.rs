@@ -7,7 +7,9 @@
 //! max_depth, a light sample from the v-th vertex when v ≤ max_depth. Pixel values are the
 //! mean radiance over the pixel's area (uniform jitter), the same measure as the MMLT image.
 //! Random numbers are keyed by (seed, pixel, sample, vertex), so the device and the CPU compute
-//! the same estimate.
+//! the same estimate. The path itself ([`trace_path`]) takes its uniforms from a
+//! [`PathSamples`] source, so that a Metropolis chain can drive the same estimator
+//! (`crate::pssmlt`).
 
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
@@ -61,35 +63,76 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
-/// The eight uniforms of vertex `v` of sample `sample` of `pixel`.
-#[inline]
-fn vertex_uniforms(params: &ReferenceParams, pixel: u32, sample: u32, v: u32) -> [f32; 8] {
-    let key = RngKey { seed: params.seed, chain: pixel, iteration: sample, dimension: 0 };
-    let a = rng::uniform4(key, rng::STREAM_REFERENCE, 2 * v);
-    let b = rng::uniform4(key, rng::STREAM_REFERENCE, 2 * v + 1);
-    [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
+/// Where a path's uniforms come from: the reference's random numbers ([`KeyedSamples`]), or a
+/// Metropolis chain's primary sample vector (`crate::pssmlt`). One path tracer, two sources.
+pub trait PathSamples {
+    /// The two uniforms of the raster position (vertex 0).
+    fn raster(&self) -> Vec2;
+    /// The five uniforms of vertex `v` ≥ 1: the light pick, the point on the light (2), the
+    /// BSDF direction (2).
+    fn vertex(&self, v: u32) -> [f32; 5];
 }
 
-/// One path-traced estimate of the radiance through a uniform point of pixel `pixel`.
+/// The reference's uniforms: counter-based random numbers keyed by (seed, pixel, sample,
+/// vertex).
+#[derive(Clone, Copy)]
+pub struct KeyedSamples {
+    key: RngKey,
+}
+
+impl KeyedSamples {
+    /// The uniforms of sample `sample` of `pixel`.
+    #[inline]
+    pub fn new(seed: u32, pixel: u32, sample: u32) -> Self {
+        Self { key: RngKey { seed, chain: pixel, iteration: sample, dimension: 0 } }
+    }
+}
+
+impl PathSamples for KeyedSamples {
+    #[inline]
+    fn raster(&self) -> Vec2 {
+        let a = rng::uniform4(self.key, rng::STREAM_REFERENCE, 0);
+        Vec2::new(a[0], a[1])
+    }
+
+    #[inline]
+    fn vertex(&self, v: u32) -> [f32; 5] {
+        let a = rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v);
+        let b = rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v + 1);
+        [a[0], a[1], a[2], a[3], b[0]]
+    }
+}
+
+/// What a path needs besides the scene and its uniforms.
+#[derive(Clone, Copy)]
+pub struct PathSettings {
+    #[allow(missing_docs)] // named for what it is
+    pub camera: Camera,
+    /// Maximum number of bounces (pbrt's maxdepth).
+    pub max_depth: u32,
+    /// Entries of the light CDF.
+    pub light_count: u32,
+    /// Ray-origin offset, relative to the scene's size.
+    pub epsilon: f32,
+}
+
+/// One path-traced estimate of the radiance arriving through raster point (`x`, `y`), with
+/// the vertices' uniforms from `samples`.
 #[inline]
-pub fn pixel_sample<R: RayCaster>(
-    params: &ReferenceParams,
+pub fn trace_path<R: RayCaster, S: PathSamples>(
+    settings: &PathSettings,
     scene: Scene<R>,
-    pixel: u32,
-    sample: u32,
+    (x, y): (f32, f32),
+    samples: &S,
 ) -> Vec3 {
-    let cam = params.camera;
-    let width = params.width;
-    let u0 = vertex_uniforms(params, pixel, sample, 0);
-    let x = (pixel % width) as f32 + u0[0];
-    let y = (pixel / width) as f32 + u0[1];
+    let cam = settings.camera;
     let mut d = cam.direction(x, y);
     let mut origin = cam.origin();
     let mut beta = Vec3::ONE;
     let mut radiance = Vec3::ZERO;
     let mut pdf_bsdf_prev = 0.0f32;
     let mut v = 1u32;
-    while v <= params.max_depth + 1 {
+    while v <= settings.max_depth + 1 {
         let hit = scene.caster.closest_hit(origin, d, 0.0, NO_HIT);
         if !hit.found() {
             break;
@@ -112,14 +155,14 @@ pub fn pixel_sample<R: RayCaster>(
             };
             radiance += beta * le * weight;
         }
-        if v > params.max_depth {
+        if v > settings.max_depth {
             break;
         }
-        let u = vertex_uniforms(params, pixel, sample, v);
+        let u = samples.vertex(v);
         // Next-event estimation: one light sample from this vertex.
         let ls = sample_light(
             scene.lights,
-            params.light_count,
+            settings.light_count,
             scene.triangles,
             scene.materials,
             u[0],
@@ -137,8 +180,8 @@ pub fn pixel_sample<R: RayCaster>(
             let cos_l = nq.dot(wl).abs();
             if le.max_element() > 0.0 && f.max_element() > 0.0 && cos_l > 0.0 {
                 let pdf_light = ls.vertex.pdf_fwd * dist2 / cos_l;
-                let from = spawn(p, n, wl, params.epsilon);
-                let target = spawn(q, nq, -wl, params.epsilon);
+                let from = spawn(p, n, wl, settings.epsilon);
+                let target = spawn(q, nq, -wl, settings.epsilon);
                 let span = target - from;
                 let len = span.length();
                 if !scene.caster.occluded(from, span / len, 0.0, len) {
@@ -154,11 +197,32 @@ pub fn pixel_sample<R: RayCaster>(
         }
         beta *= bs.f * (bs.wi.dot(n).abs() / bs.pdf);
         pdf_bsdf_prev = bs.pdf;
-        origin = spawn(p, n, bs.wi, params.epsilon);
+        origin = spawn(p, n, bs.wi, settings.epsilon);
         d = bs.wi;
         v += 1;
     }
     radiance
+}
+
+/// One path-traced estimate of the radiance through a uniform point of pixel `pixel`.
+#[inline]
+pub fn pixel_sample<R: RayCaster>(
+    params: &ReferenceParams,
+    scene: Scene<R>,
+    pixel: u32,
+    sample: u32,
+) -> Vec3 {
+    let settings = PathSettings {
+        camera: params.camera,
+        max_depth: params.max_depth,
+        light_count: params.light_count,
+        epsilon: params.epsilon,
+    };
+    let samples = KeyedSamples::new(params.seed, pixel, sample);
+    let jitter = samples.raster();
+    let x = (pixel % params.width) as f32 + jitter.x;
+    let y = (pixel / params.width) as f32 + jitter.y;
+    trace_path(&settings, scene, (x, y), &samples)
 }
 
 /// `params.samples` samples of pixel `pixel` for round `params.round`, summed.

@@ -27,7 +27,9 @@ use shared::mmlt::RenderParams;
 
 use crate::gpu::Gpu;
 use crate::reference::{cached_or_render, ReferenceSettings};
-use crate::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Settings};
+use crate::render::{
+    self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Sampler, Settings,
+};
 use crate::scene::SceneData;
 use metrics::{errors, heat_map};
 use profile::{profile, profile_cpu, Profile};
@@ -38,8 +40,8 @@ use results::{final_row, Row, CSV_HEADER};
 pub struct BenchSettings {
     /// (scene name, view): generated scenes by name, or glTF paths.
     pub scenes: Vec<(String, u32)>,
-    /// Methods to compare.
-    pub methods: Vec<Method>,
+    /// Methods (with their estimators) to compare.
+    pub methods: Vec<Sampler>,
     /// Render seconds per method.
     pub seconds: f64,
     /// Image width in pixels.
@@ -186,7 +188,8 @@ fn equal_time(
             height: b.height,
             max_depth: b.max_depth,
             seed: b.seed.wrapping_add(repeat),
-            method: *m,
+            method: m.method,
+            estimator: m.estimator,
             budget: Budget::Seconds(b.seconds),
             candidates,
             bootstrap_samples: render::DEFAULT_BOOTSTRAP,
@@ -248,7 +251,7 @@ fn equal_time(
     if repeat == 0 {
         for (i, method) in b.methods.iter().enumerate() {
             // The profile looks inside the chains' iterations; the path tracer has one pass.
-            if *method == Method::PathTracer {
+            if method.method == Method::PathTracer {
                 continue;
             }
             let method = method.to_string();
@@ -280,7 +283,7 @@ fn write_finals(
     for (i, m) in b.methods.iter().enumerate() {
         let stem = format!("{label}_v{view}_{m}");
         crate::output::write_images(&b.out.join(format!("{stem}.exr")), b.width, b.height, &last[i])?;
-        if *m == Method::Tree(1) || Some(m.to_string()) == best {
+        if m.to_string() == "naive" || Some(m.to_string()) == best {
             heat_map(&last[i], reference, b.width, b.height, scale)
                 .save(b.out.join(format!("heat_{stem}.png")))?;
         }
@@ -300,7 +303,7 @@ fn write_results(
         b.out.join("results.csv"),
         csv(CSV_HEADER.to_string(), rows.iter().map(Row::csv).collect()),
     )?;
-    let methods: Vec<String> = b.methods.iter().map(Method::to_string).collect();
+    let methods: Vec<String> = b.methods.iter().map(Sampler::to_string).collect();
     let mut tables = tables::tables(&methods, b.seconds, rows);
     tables.push_str(&tables::reference_table(b, rows, noises));
     if !profiles.is_empty() {

@@ -106,7 +106,6 @@ pub fn reference_table(b: &BenchSettings, rows: &[Row], noises: &[(String, u32, 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::Method;
 
     /// The references' table says where the reference came from: rendered at its spp, or an
     /// external file the bench did not render (whose own noise it does not know).
@@ -114,7 +113,7 @@ mod tests {
     fn the_reference_table_names_an_external_reference() {
         let mut b = BenchSettings {
             scenes: vec![("cornell".into(), 1)],
-            methods: vec![Method::Tree(1)],
+            methods: vec!["naive".parse().unwrap()],
             seconds: 2.0,
             width: 4,
             height: 4,

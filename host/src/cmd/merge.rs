@@ -48,8 +48,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             p.shard, id.shard_count, p.iterations, p.render_seconds, p.device
         );
     }
-    let method = id.method.parse().map_err(anyhow::Error::msg)?;
-    super::render::print_summary(&merged, method, id.p_large);
+    let sampler: crate::render::Sampler = id.method.parse().map_err(anyhow::Error::msg)?;
+    super::render::print_summary(&merged, sampler.method, id.p_large);
     println!(
         "wrote                {} and {} (PNG at {ev:+.2} EV)",
         a.out.display(),

@@ -12,7 +12,7 @@ use shared::mutation::MutationParams;
 
 use super::args::{exposure, positive_f64, unit_f32, DeviceArgs, ImageArgs, PathArgs, SceneArgs};
 use crate::output::Exposure;
-use crate::render::{self, Budget, Method, Settings, Shard};
+use crate::render::{self, Budget, Method, Sampler, Settings, Shard};
 
 /// `smlt render`'s flags.
 #[derive(clap::Args)]
@@ -21,9 +21,10 @@ pub struct Args {
     #[allow(missing_docs)] // flattened: documented on SceneArgs
     pub scene: SceneArgs,
     /// pt (the path tracer), naive, s<d> (speculative tree of depth d = 1..8; s1 is naive), or
-    /// rc<l> (reject chain of l = 2..64 proposals).
-    #[arg(long, default_value = "naive", value_parser = |s: &str| s.parse::<Method>())]
-    pub method: Method,
+    /// rc<l> (reject chain of l = 2..64 proposals); path-naive, path-s<d>, path-rc<l>: the same
+    /// chains over the path tracer's estimate instead of the seed's multiplexed paths.
+    #[arg(long, default_value = "naive", value_parser = |s: &str| s.parse::<Sampler>())]
+    pub method: Sampler,
     /// Stop after this many seconds of iterations (after the bootstrap).
     #[arg(long, value_parser = positive_f64, conflicts_with = "mutations_per_pixel", allow_negative_numbers = true)]
     pub time: Option<f64>,
@@ -142,7 +143,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         height: a.image.height(&scene),
         max_depth: a.path.max_depth,
         seed: a.path.seed,
-        method: a.method,
+        method: a.method.method,
+        estimator: a.method.estimator,
         budget,
         candidates: a.candidates.unwrap_or(render::default_candidates(device.gpu.as_ref())),
         bootstrap_samples: a.bootstrap,
@@ -186,7 +188,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     println!(
         "rendering {} at {}×{} with {} ({work})",
-        scene.name, settings.width, settings.height, settings.method
+        scene.name,
+        settings.width,
+        settings.height,
+        settings.sampler()
     );
     let bar = ProgressBar::new(1000);
     bar.set_style(

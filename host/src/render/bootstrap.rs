@@ -92,7 +92,7 @@ pub fn bootstrap(scene: &SceneData, s: &Settings) -> Result<Bootstrap, RenderErr
         }
         chains[p as usize] = ChainState {
             contribution: contributions[g as usize].to_array(),
-            depth: bootstrap_depth(g, s.max_depth),
+            depth: base.candidate_depth(true, bootstrap_depth(g, s.max_depth), 0),
             ..Default::default()
         };
     }

@@ -5,12 +5,14 @@
 pub mod accumulation;
 pub mod bootstrap;
 pub mod cpu;
+pub mod estimator;
 pub mod gpu;
 pub mod method;
 pub mod renderer;
 pub mod settings;
 
 pub use accumulation::Accumulation;
+pub use estimator::{Estimator, Sampler};
 pub use method::Method;
 pub use renderer::{normalisation, render, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};
 pub use settings::{

@@ -78,31 +78,33 @@ pub struct Rendered {
     pub bootstrap: Moments,
 }
 
-/// b of a Metropolis render with these bootstrap moments and accumulation.
-pub fn normalisation(max_depth: u32, bootstrap: &Moments, acc: &Accumulation) -> Estimate {
-    estimate(max_depth, &bootstrap.merged(acc.large_steps))
+/// b of a Metropolis render with these bootstrap moments and accumulation, whose chain states
+/// span `depths` path depths (`Settings::state_depths`).
+pub fn normalisation(depths: u32, bootstrap: &Moments, acc: &Accumulation) -> Estimate {
+    estimate(depths, &bootstrap.merged(acc.large_steps))
 }
 
 /// b of a render by `method`: the Metropolis methods' [`normalisation`], exactly 1 for the
 /// path tracer (its splats are the samples themselves).
-fn method_normalisation(method: Method, max_depth: u32, bootstrap: &Moments, acc: &Accumulation) -> Estimate {
+fn method_normalisation(method: Method, depths: u32, bootstrap: &Moments, acc: &Accumulation) -> Estimate {
     match method {
         Method::PathTracer => Estimate { b: 1.0, standard_error: 0.0, samples: 0 },
-        _ => normalisation(max_depth, bootstrap, acc),
+        _ => normalisation(depths, bootstrap, acc),
     }
 }
 
 impl Rendered {
     /// The normalised image `b · pixels · S_j / W` of an accumulation of a render by
-    /// `method`; `stats` gets b, its error, the steps, acceptance and NaN/Inf counts from it.
+    /// `method` whose chain states span `depths` path depths; `stats` gets b, its error, the
+    /// steps, acceptance and NaN/Inf counts from it.
     pub fn from_accumulation(
         (width, height): (u32, u32),
-        (method, max_depth): (Method, u32),
+        (method, depths): (Method, u32),
         bootstrap: Moments,
         accumulation: Accumulation,
         mut stats: Stats,
     ) -> Rendered {
-        let b = method_normalisation(method, max_depth, &bootstrap, &accumulation);
+        let b = method_normalisation(method, depths, &bootstrap, &accumulation);
         let pixels = width as f64 * height as f64;
         let w = accumulation.weight;
         let scale = if w > 0.0 { b.b * pixels / w } else { 0.0 };
@@ -274,7 +276,7 @@ impl<'a> Renderer<'a> {
         let s = &self.settings;
         Ok(Rendered::from_accumulation(
             (s.width, s.height),
-            (s.method, s.max_depth),
+            (s.method, s.state_depths()),
             self.bootstrap,
             self.acc.clone(),
             self.stats.clone(),

@@ -4,11 +4,13 @@
 use std::ops::Range;
 use std::str::FromStr;
 
-use shared::mmlt::{sample_dimensions, RenderParams, METHOD_REJECT_CHAIN, METHOD_TREE, MODE_CHAINS};
+use shared::mmlt::{
+    estimator_dimensions, state_depths, RenderParams, METHOD_REJECT_CHAIN, METHOD_TREE, MODE_CHAINS,
+};
 use shared::mutation::MutationParams;
 use shared::path_tracer::ReferenceParams;
 
-use super::Method;
+use super::{Estimator, Method, Sampler};
 use crate::scene::SceneData;
 
 /// Image width when none is given.
@@ -80,8 +82,10 @@ pub struct Settings {
     pub max_depth: u32,
     /// Seed of every random number.
     pub seed: u32,
-    /// Parallelisation.
+    /// The path tracer, or how the Metropolis chains are parallelised.
     pub method: Method,
+    /// What the Metropolis chains sample.
+    pub estimator: Estimator,
     /// When to stop.
     pub budget: Budget,
     /// Candidates traced per iteration by the whole render (divided among chains).
@@ -96,6 +100,16 @@ pub struct Settings {
 }
 
 impl Settings {
+    /// The method with its estimator (its name in tables and part files).
+    pub fn sampler(&self) -> Sampler {
+        Sampler { method: self.method, estimator: self.estimator }
+    }
+
+    /// How many path depths a chain state spans (the factor of b).
+    pub fn state_depths(&self) -> u32 {
+        state_depths(self.estimator.code(), self.max_depth)
+    }
+
     /// Number of chains of the whole render: the candidates per iteration divided by the
     /// candidates per chain (none for the path tracer).
     pub fn chains(&self) -> u32 {
@@ -162,7 +176,7 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
         width: s.width,
         height: s.height,
         max_depth: s.max_depth,
-        dims: sample_dimensions(s.max_depth),
+        dims: estimator_dimensions(s.estimator.code(), s.max_depth),
         chains: n,
         candidates: n * s.method.candidates_per_chain(),
         tree_depth: match s.method {
@@ -184,6 +198,7 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
             Method::Tree(_) | Method::PathTracer => 0,
         },
         chain_offset: chains.start,
+        estimator: s.estimator.code(),
     }
 }
 
@@ -236,6 +251,7 @@ mod tests {
             max_depth: 5,
             seed: 1,
             method: Method::PathTracer,
+            estimator: Estimator::Multiplexed,
             budget: Budget::MutationsPerPixel(17.0),
             candidates: 120,
             bootstrap_samples: 1,

@@ -4,6 +4,8 @@
 use crate::camera::Camera;
 use crate::mutation::MutationParams;
 
+use super::sample_dimensions;
+
 /// Mode of a render dispatch: advancing chains.
 pub const MODE_CHAINS: u32 = 0;
 /// Mode of a render dispatch: bootstrap (fresh samples, depth = sample index mod (k_max + 1)).
@@ -66,6 +68,38 @@ pub struct RenderParams {
     /// `chain_offset + p` (its index in the whole render), so any partition of the chains into
     /// buffers, threads, adapters or machines renders the same chains.
     pub chain_offset: u32,
+    /// What a chain's state is a sample of: [`ESTIMATOR_MULTIPLEXED`] or [`ESTIMATOR_PATH`].
+    pub estimator: u32,
+}
+
+/// The seed's estimator: Multiplexed MLT, one technique of one path depth per sample
+/// (this module).
+pub const ESTIMATOR_MULTIPLEXED: u32 = 0;
+/// Primary-sample-space MLT over the path tracer: every depth and both of its techniques per
+/// sample (`crate::pssmlt`).
+pub const ESTIMATOR_PATH: u32 = 1;
+
+/// Primary sample dimensions of a chain of `estimator` over paths of up to `max_depth`
+/// bounces.
+#[inline]
+pub fn estimator_dimensions(estimator: u32, max_depth: u32) -> u32 {
+    if estimator == ESTIMATOR_PATH {
+        crate::pssmlt::path_dimensions(max_depth)
+    } else {
+        sample_dimensions(max_depth)
+    }
+}
+
+/// How many path depths one chain state spans, the factor of b = depths · E[c] over uniform
+/// states (`crate::normalisation`): the multiplexed state (u, depth) one of max_depth + 1,
+/// the path estimator's u every depth at once (1).
+#[inline]
+pub fn state_depths(estimator: u32, max_depth: u32) -> u32 {
+    if estimator == ESTIMATOR_PATH {
+        1
+    } else {
+        max_depth + 1
+    }
 }
 
 /// Chains evaluate a speculative tree of depth `tree_depth` (1: the naive method).
@@ -96,6 +130,28 @@ impl RenderParams {
     #[inline]
     pub fn global_chain(&self, p: u32) -> u32 {
         self.chain_offset + p
+    }
+
+    /// Whether candidates of path depth `depth` read any of dimensions `first .. first +
+    /// count` (the multiplexed estimator's [`super::dimensions_used`]; the path estimator's
+    /// paths may read them all).
+    #[inline]
+    pub fn dimensions_used(&self, first: u32, count: u32, depth: u32) -> bool {
+        self.estimator == ESTIMATOR_PATH || super::dimensions_used(first, count, depth, self.max_depth)
+    }
+
+    /// The depth of a candidate whose proposal draws a fresh depth `fresh` (a large step or a
+    /// bootstrap sample) or keeps its chain's `kept`: the path estimator's chains all span
+    /// every depth, and keep max_depth.
+    #[inline]
+    pub fn candidate_depth(&self, fresh: bool, fresh_depth: u32, kept: u32) -> u32 {
+        if self.estimator == ESTIMATOR_PATH {
+            self.max_depth
+        } else if fresh {
+            fresh_depth
+        } else {
+            kept
+        }
     }
 
     /// Distinct states (splat records) per chain: the current state and every candidate.

@@ -1,0 +1,97 @@
+//! Primary-sample-space MLT over the path tracer (Kelemen et al. 2002, as LuxCore's Metropolis
+//! sampler over its path tracer): a chain's state is the primary sample vector u of one
+//! path-traced sample — the raster position and five uniforms per vertex — and its
+//! contribution is that sample's whole estimate ([`crate::path_tracer::trace_path`]: emission
+//! found by BSDF sampling and a light sample at every vertex, weighed by the power heuristic),
+//! at the pixel its raster position lands on. Every depth and both of its techniques count in
+//! each sample; the target is c(u) = luminance(F(u)), and b = E[c] over uniform u
+//! (`crate::mmlt::state_depths` is 1).
+//!
+//! The chains, trees, reject chains, mutations, acceptance and splats are the seed's: only the
+//! `trace` and `connect` stages differ (the whole path is traced in `connect`, which has the
+//! scene, the candidate samples and the contribution buffer; `trace` has nothing to do).
+
+use glam::{Vec2, Vec4};
+
+use crate::layout::pack_contribution;
+use crate::mmlt::{RenderParams, Samples};
+use crate::path_tracer::{trace_path, PathSamples, PathSettings};
+use crate::ray_caster::RayCaster;
+use crate::scene::Scene;
+
+/// The dimensions (2) of the raster position, as fractions of the image's width and height.
+pub const PATH_DIM_RASTER: u32 = 0;
+
+/// First of the five dimensions of vertex `v` ≥ 1 (light pick, light point, BSDF direction).
+#[inline]
+pub fn path_vertex_dimension(v: u32) -> u32 {
+    2 + 5 * (v - 1)
+}
+
+/// Dimensions of u for paths of up to `max_depth` bounces: the raster position and five for
+/// each of vertices 1..=max_depth (the vertex after the last bounce only finds emission).
+#[inline]
+pub fn path_dimensions(max_depth: u32) -> u32 {
+    path_vertex_dimension(max_depth + 1)
+}
+
+/// A candidate's primary samples as the path tracer's uniforms.
+#[derive(Clone, Copy)]
+pub struct ChainSamples<'a> {
+    u: &'a [f32],
+    samples: Samples,
+}
+
+impl PathSamples for ChainSamples<'_> {
+    #[inline]
+    fn raster(&self) -> Vec2 {
+        self.samples.get2(self.u, PATH_DIM_RASTER)
+    }
+
+    #[inline]
+    fn vertex(&self, v: u32) -> [f32; 5] {
+        let first = path_vertex_dimension(v);
+        let at = |i: u32| self.samples.get(self.u, first + i);
+        [at(0), at(1), at(2), at(3), at(4)]
+    }
+}
+
+/// The path estimator's packed contribution of candidate `samples` (F in rgb, the pixel as
+/// the bits of w).
+#[inline]
+pub fn path_candidate<R: RayCaster>(
+    params: &RenderParams,
+    scene: Scene<R>,
+    u: &[f32],
+    samples: Samples,
+) -> Vec4 {
+    let chain = ChainSamples { u, samples };
+    let raster = chain.raster();
+    let cam = params.camera;
+    let (x, y) = (raster.x * cam.width, raster.y * cam.height);
+    let settings = PathSettings {
+        camera: cam,
+        max_depth: params.max_depth,
+        light_count: params.light_count,
+        epsilon: params.epsilon,
+    };
+    let l = trace_path(&settings, scene, (x, y), &chain);
+    pack_contribution(l, 1.0, cam.pixel(x, y))
+}
+
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod tests {
+    use super::*;
+
+    /// The layout covers every uniform a path of max_depth bounces reads, once.
+    #[test]
+    fn every_vertex_has_its_own_five_dimensions() {
+        assert_eq!(path_dimensions(0), 2);
+        assert_eq!(path_dimensions(10), 52);
+        for v in 1..=10 {
+            assert_eq!(path_vertex_dimension(v + 1) - path_vertex_dimension(v), 5);
+            assert!(path_vertex_dimension(v) + 5 <= path_dimensions(10));
+        }
+        assert_eq!(path_vertex_dimension(1), 2);
+    }
+}
