@@ -69,6 +69,12 @@ fn expected_weights(method: Method, c: &[f32]) -> Vec<f32> {
     }
 }
 
+/// A pixel importance that differs from pixel to pixel (0.5 to 1.36), so that the path
+/// estimator's division by it is checked on both sides.
+fn importance(params: &RenderParams) -> Vec<f32> {
+    (0..params.width * params.height).map(|j| 0.5 + (j % 7) as f32 / 7.0).collect()
+}
+
 fn allowed(n: usize) -> usize {
     n / 200
 }
@@ -103,13 +109,15 @@ impl<'a> Difftest<'a> {
             estimator,
         };
         let base = render::base_params(scene, &s);
+        let dev = gpu::GpuBackend::new(gpu, scene, &base).expect("device buffers");
+        upload(dev.gpu(), &dev.buffers().importance, &importance(&base));
         Difftest {
             method,
             base,
             params: RenderParams { iteration: 5, ..base },
             scene: scene.shared(),
-            dev: gpu::GpuBackend::new(gpu, scene, &base).expect("device buffers"),
-            cpu: CpuBuffers::new(scene.shared(), &base),
+            dev,
+            cpu: CpuBuffers::new(scene.shared(), &base, importance(&base).into()),
             start: Vec::new(),
         }
     }
@@ -149,7 +157,7 @@ impl<'a> Difftest<'a> {
             .collect();
         self.cpu.iteration.chain_u.copy_from_slice(&chain_u);
         self.cpu.iteration.chains.copy_from_slice(&self.start);
-        self.dev.start(&chain_u, &self.start).unwrap();
+        self.dev.start(&chain_u, &self.start, &importance(&self.base)).unwrap();
     }
 
     /// mutate: the same candidate samples and depths, exactly.
@@ -236,6 +244,7 @@ impl<'a> Difftest<'a> {
             self.scene,
             &cpu.iteration.vertices,
             &cpu.iteration.paths,
+            &cpu.importance,
             &mut cpu.iteration.contributions,
         );
         self.dev.run(params, &[Stage::Connect]).unwrap();
@@ -425,7 +434,12 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
     let mut dev = gpu::GpuBackend::new(gpu, &scene, &base).expect("device buffers");
     let chain_u: Vec<f32> = (0..n * dims).map(|i| (i as f32 * 0.618_034).fract()).collect();
     // Chains at the deepest depth, so that every dimension is mutated.
-    dev.start(&chain_u, &vec![ChainState { depth: s.max_depth, ..Default::default() }; n]).unwrap();
+    dev.start(
+        &chain_u,
+        &vec![ChainState { depth: s.max_depth, ..Default::default() }; n],
+        &importance(&base),
+    )
+    .unwrap();
     let params = RenderParams { iteration: 9, ..base };
     dev.run(&params, &[Stage::Mutate]).unwrap();
     let u: Vec<f32> = dev.gpu().read(&dev.buffers().iteration.cand_u, c * dims).unwrap();

@@ -198,7 +198,7 @@ fn every_method_refines_b_with_its_large_steps() {
     let (rho, k) = (0.5, 3);
     let scene = furnace(1.0, rho);
     let expected = furnace_radiance(1.0, rho, k);
-    for method in ["naive", "s3", "rc8", "path-s3"] {
+    for method in ["naive", "s3", "rc8"] {
         let mut s = settings(method, Shard::WHOLE);
         s.max_depth = k;
         s.bootstrap_samples = 4096;

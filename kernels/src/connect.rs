@@ -1,7 +1,8 @@
 //! The `connect` pass: one invocation per candidate connects the end points of its subpaths
 //! with one shadow ray, weighs the path with the balance heuristic, and stores the packed
 //! contribution (F in rgb, the pixel index as the bits of w; seed §5.3). For the path
-//! estimator it traces the candidate's whole path instead (`shared::pssmlt::path_candidate`).
+//! estimator it traces the candidate's whole path instead (`shared::pssmlt::path_candidate`),
+//! divided by its pixel's importance.
 
 use shared::bsdf::Material;
 use shared::cwbvh::{WideBvh, WideNode};
@@ -17,6 +18,7 @@ use spirv_std::glam::{UVec3, Vec4};
 use spirv_std::spirv;
 
 /// The kernel body for candidate `k`.
+#[allow(clippy::too_many_arguments)] // one slice per binding, as the entry point hands them over
 pub fn connect<R: RayCaster>(
     k: usize,
     params: &RenderParams,
@@ -24,6 +26,7 @@ pub fn connect<R: RayCaster>(
     scene: Scene<R>,
     vertices: &[PathVertex],
     paths: &[PathInfo],
+    importance: &[f32],
     contributions: &mut [Vec4],
 ) {
     let k = k as u32;
@@ -32,7 +35,7 @@ pub fn connect<R: RayCaster>(
     }
     let samples = Samples { candidate: k, count: params.candidates };
     if params.estimator == ESTIMATOR_PATH {
-        contributions[k as usize] = path_candidate(params, scene, cand_u, samples);
+        contributions[k as usize] = path_candidate(params, scene, cand_u, samples, importance);
         return;
     }
     let connection = connect_candidate(params, scene, cand_u, samples, &paths[k as usize], vertices);
@@ -53,7 +56,8 @@ pub fn connect_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] vertices: &[PathVertex],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] paths: &[PathInfo],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] contributions: &mut [Vec4],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] importance: &[f32],
 ) {
     let scene = Scene { caster: WideBvh { nodes, triangles }, triangles, materials, lights };
-    connect(id.x as usize, &params[0], cand_u, scene, vertices, paths, contributions);
+    connect(id.x as usize, &params[0], cand_u, scene, vertices, paths, importance, contributions);
 }

@@ -13,9 +13,10 @@ compares with the reference (the mean, and the error of the image and of its mir
 catch a flipped or shifted raster) - a peer's numbers count only after this agrees.
 
 Conversion: Lambert -> `diffuse`; emitters -> one-sided `area` lights of the same radiance;
-smlt's normalised Phong lobe of exponent >= 1e4 -> a smooth `conductor` with the albedo as its
-reflectance (the lobe is under a degree wide); smlt's max depth k (bounces, pbrt's maxdepth)
--> Mitsuba's max_depth k + 1; box pixel filter (smlt's pixels are box averages).
+smlt's normalised Phong lobe (any exponent > 0) -> `smlt_phong`, a Python BSDF plugin with smlt's
+own lobe, sampling and two-sided semantics (`mitsuba_phong.py`, checked by `check_phong.py`);
+smlt's max depth k (bounces, pbrt's maxdepth) -> Mitsuba's max_depth k + 1; box pixel filter
+(smlt's pixels are box averages).
 Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
 libllvm19 unpacked with dpkg-deb -x works), else `scalar_rgb`."""
 
@@ -60,10 +61,9 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
         path = os.path.join(folder, f"mesh{m}.ply")
         write_ply(path, tris)
         rgb = {"type": "rgb", "value": list(mat.albedo)}
-        if mat.phong >= 1e4:
-            bsdf = {"type": "conductor", "material": "none", "specular_reflectance": rgb}
-        elif mat.phong > 0:
-            raise SystemExit(f"material {mat.name}: Phong exponent {mat.phong} has no Mitsuba counterpart here")
+        if mat.phong > 0:
+            # mitsuba_phong.py's plugin, registered in main()
+            bsdf = {"type": "smlt_phong", "reflectance": list(mat.albedo), "exponent": mat.phong}
         else:
             bsdf = {"type": "diffuse", "reflectance": rgb}
         shape = {"type": "ply", "filename": path, "face_normals": True, "bsdf": bsdf}
@@ -92,6 +92,9 @@ def main():
         if os.environ.get("DRJIT_LIBLLVM_PATH"):
             variant = "llvm_ad_rgb"
     mi.set_variant(variant)
+    import mitsuba_phong  # after set_variant: the plugin derives from the variant's mi.BSDF
+
+    mitsuba_phong.register()
     scene = gltf_scene.load(a.scene)
     label = a.label or os.path.splitext(os.path.basename(a.scene))[0]
     reference = read_exr(mi, a.reference)

@@ -4,8 +4,16 @@
 //! contribution is that sample's whole estimate ([`crate::path_tracer::trace_path`]: emission
 //! found by BSDF sampling and a light sample at every vertex, weighed by the power heuristic),
 //! at the pixel its raster position lands on. Every depth and both of its techniques count in
-//! each sample; the target is c(u) = luminance(F(u)), and b = E[c] over uniform u
-//! (`crate::mmlt::state_depths` is 1).
+//! each sample.
+//!
+//! **Pixel importance.** The contribution is F(u)/Ĩ_j, with Ĩ_j > 0 a fixed estimate of pixel
+//! j's luminance made before the chains start (`importance` buffer, one value a pixel), so the
+//! target is c(u) = luminance(F(u))/Ĩ_j and b = E[c] over uniform u
+//! (`crate::mmlt::state_depths` is 1). A luminance target spends the chains' steps in
+//! proportion to each pixel's brightness, so dark pixels get few and a relative error is worst
+//! there; with Ĩ ≈ I every pixel gets about the same share (as a path tracer's samples) while,
+//! inside a pixel, the chains still follow the light. Any positive Ĩ gives the same image: the
+//! host multiplies pixel j's sums by Ĩ_j when it drains them.
 //!
 //! The chains, trees, reject chains, mutations, acceptance and splats are the seed's: only the
 //! `trace` and `connect` stages differ (the whole path is traced in `connect`, which has the
@@ -56,14 +64,15 @@ impl PathSamples for ChainSamples<'_> {
     }
 }
 
-/// The path estimator's packed contribution of candidate `samples` (F in rgb, the pixel as
-/// the bits of w).
+/// The path estimator's packed contribution of candidate `samples`: F/Ĩ_j in rgb, the pixel j
+/// as the bits of w, with `importance` holding Ĩ per pixel.
 #[inline]
 pub fn path_candidate<R: RayCaster>(
     params: &RenderParams,
     scene: Scene<R>,
     u: &[f32],
     samples: Samples,
+    importance: &[f32],
 ) -> Vec4 {
     let chain = ChainSamples { u, samples };
     let raster = chain.raster();
@@ -76,7 +85,8 @@ pub fn path_candidate<R: RayCaster>(
         epsilon: params.epsilon,
     };
     let l = trace_path(&settings, scene, (x, y), &chain);
-    pack_contribution(l, 1.0, cam.pixel(x, y))
+    let pixel = cam.pixel(x, y);
+    pack_contribution(l, 1.0 / importance[pixel as usize], pixel)
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]

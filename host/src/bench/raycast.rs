@@ -80,12 +80,23 @@ pub fn log_candidates(
     let mut paths = vec![PathInfo::default(); c];
     let mut contributions = vec![Vec4::ZERO; c];
     let mut per_candidate: Vec<Vec<Ray>> = Vec::with_capacity(c);
+    // The pixel importance scales contributions, never rays.
+    let importance = vec![1.0f32; (params.width * params.height) as usize];
     let caster = scene.shared().caster;
     for k in 0..c {
         let log = Logged::new(caster);
         let logging = scene.with_caster(&log);
         kernels::trace::trace(k, params, cand_depth, cand_u, logging, &mut vertices, &mut paths);
-        kernels::connect::connect(k, params, cand_u, logging, &vertices, &paths, &mut contributions);
+        kernels::connect::connect(
+            k,
+            params,
+            cand_u,
+            logging,
+            &vertices,
+            &paths,
+            &importance,
+            &mut contributions,
+        );
         per_candidate.push(log.into_rays());
     }
     let most = per_candidate.iter().map(Vec::len).max().unwrap_or(0);

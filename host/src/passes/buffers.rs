@@ -140,6 +140,9 @@ pub struct DeviceBuffers<S: Storage> {
     pub scene: SceneBuffers<S>,
     /// The f32 image as bits, rgb per pixel.
     pub image: S::Of<u32>,
+    /// Ĩ per pixel, the path estimator's pixel importance (`shared::pssmlt`; ones until the
+    /// render sets it).
+    pub importance: S::Of<f32>,
 }
 
 impl<S: Storage> DeviceBuffers<S> {
@@ -150,6 +153,7 @@ impl<S: Storage> DeviceBuffers<S> {
             iteration: IterationBuffers::new(s, params),
             scene: SceneBuffers::new(s, scene),
             image: s.zeroed("image", (params.width * params.height) as usize * 3),
+            importance: s.copy_of("importance", &vec![1.0f32; (params.width * params.height) as usize]),
         }
     }
 }

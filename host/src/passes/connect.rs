@@ -1,5 +1,5 @@
 //! The `connect` pass: binds params, candidate samples, the scene, vertices and path infos,
-//! and writes the packed contributions.
+//! writes the packed contributions, and reads the pixel importance (the path estimator's).
 
 use glam::Vec4;
 use kernels::connect::connect;
@@ -26,6 +26,7 @@ pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
             Binding::Read(&b.iteration.vertices),
             Binding::Read(&b.iteration.paths),
             Binding::Write(&b.iteration.contributions),
+            Binding::Read(&b.importance),
         ],
     )
 }
@@ -37,9 +38,10 @@ pub fn cpu<R: RayCaster>(
     scene: Scene<R>,
     vertices: &[PathVertex],
     paths: &[PathInfo],
+    importance: &[f32],
     contributions: &mut [Vec4],
 ) {
     for k in 0..params.candidates as usize {
-        connect(k, params, cand_u, scene, vertices, paths, contributions);
+        connect(k, params, cand_u, scene, vertices, paths, importance, contributions);
     }
 }

@@ -8,6 +8,7 @@
 //! the very same bootstrap (the part files carry its moments, and `smlt merge` checks that
 //! they agree).
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use glam::Vec4;
@@ -39,10 +40,12 @@ pub struct Bootstrap {
 }
 
 /// Traces `max(bootstrap samples, chains)` samples on the current rayon pool and starts the
-/// shard's chains.
-pub fn bootstrap(scene: &SceneData, s: &Settings) -> Result<Bootstrap, RenderError> {
+/// shard's chains; the path estimator's contributions are divided by the pixel importance
+/// `importance` (`super::importance`).
+pub fn bootstrap(scene: &SceneData, s: &Settings, importance: &[f32]) -> Result<Bootstrap, RenderError> {
     let start = Instant::now();
     let base = base_params(scene, s);
+    let importance: Arc<[f32]> = importance.into();
     let total = s.bootstrap_samples.max(s.chains());
     let batches: Vec<u32> = (0..total.div_ceil(BATCH)).collect();
     let contributions: Vec<Vec4> = {
@@ -57,7 +60,7 @@ pub fn bootstrap(scene: &SceneData, s: &Settings) -> Result<Bootstrap, RenderErr
                     sample_offset: offset,
                     ..base
                 };
-                CpuBuffers::new(scene.device_view(), &params).bootstrap(&params)
+                CpuBuffers::new(scene.device_view(), &params, importance.clone()).bootstrap(&params)
             })
             .collect::<Vec<Vec<Vec4>>>()
             .concat()

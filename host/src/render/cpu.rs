@@ -9,6 +9,8 @@
 //! The partition does not depend on the thread count and the sums run in a fixed order, so the
 //! image is the same bit for bit with any number of threads.
 
+use std::sync::Arc;
+
 use glam::Vec4;
 use rayon::prelude::*;
 use shared::mmlt::{ChainState, RenderParams};
@@ -32,12 +34,14 @@ pub struct CpuBuffers<'a, R> {
     scene: Scene<'a, R>,
     /// What the stages read and write.
     pub iteration: IterationBuffers<OnHost>,
+    /// Ĩ per pixel (the path estimator's pixel importance), shared by every group.
+    pub importance: Arc<[f32]>,
 }
 
 impl<'a, R: RayCaster + Sync> CpuBuffers<'a, R> {
-    /// Allocates the buffers for `params`.
-    pub fn new(scene: Scene<'a, R>, params: &RenderParams) -> Self {
-        Self { scene, iteration: IterationBuffers::new(&mut OnHost, params) }
+    /// Allocates the buffers for `params`, reading the pixel importance `importance`.
+    pub fn new(scene: Scene<'a, R>, params: &RenderParams, importance: Arc<[f32]>) -> Self {
+        Self { scene, iteration: IterationBuffers::new(&mut OnHost, params), importance }
     }
 
     /// Runs `stage` over these buffers: the kernel body once per invocation (the splat stage
@@ -52,9 +56,15 @@ impl<'a, R: RayCaster + Sync> CpuBuffers<'a, R> {
             Stage::Trace => {
                 passes::trace::cpu(params, &b.cand_depth, &b.cand_u, scene, &mut b.vertices, &mut b.paths)
             }
-            Stage::Connect => {
-                passes::connect::cpu(params, &b.cand_u, scene, &b.vertices, &b.paths, &mut b.contributions)
-            }
+            Stage::Connect => passes::connect::cpu(
+                params,
+                &b.cand_u,
+                scene,
+                &b.vertices,
+                &b.paths,
+                &self.importance,
+                &mut b.contributions,
+            ),
             Stage::Select => passes::select::cpu(
                 params,
                 &mut b.chains,
@@ -136,9 +146,10 @@ impl<'a> CpuBackend<'a> {
         let per_group = (GROUP_CANDIDATES / params.candidates_per_chain()).max(1);
         let mut groups = Vec::new();
         let mut first = 0;
+        let ones: Arc<[f32]> = vec![1.0; (params.width * params.height) as usize].into();
         while first < params.chains {
             let chains = per_group.min(params.chains - first);
-            let buffers = CpuBuffers::new(scene.shared(), &group_params(params, first, chains));
+            let buffers = CpuBuffers::new(scene.shared(), &group_params(params, first, chains), ones.clone());
             groups.push(Group { first, chains, buffers });
             first += chains;
         }
@@ -211,9 +222,16 @@ impl Backend for CpuBackend<'_> {
         Ok(())
     }
 
-    fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError> {
+    fn start(
+        &mut self,
+        chain_u: &[f32],
+        chains: &[ChainState],
+        importance: &[f32],
+    ) -> Result<(), RenderError> {
         let n = self.chains as usize;
+        let importance: Arc<[f32]> = importance.into();
         for g in &mut self.groups {
+            g.buffers.importance = importance.clone();
             let (first, count) = (g.first as usize, g.chains as usize);
             g.buffers.iteration.chains.copy_from_slice(&chains[first..first + count]);
             for dim in 0..self.dims as usize {

@@ -160,8 +160,15 @@ impl Backend for GpuBackend {
         self.dispatch_paths(params, params.width * params.height)
     }
 
-    fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError> {
+    fn start(
+        &mut self,
+        chain_u: &[f32],
+        chains: &[ChainState],
+        importance: &[f32],
+    ) -> Result<(), RenderError> {
         assert_eq!(chain_u.len(), (self.chains * self.dims) as usize);
+        assert_eq!(importance.len(), self.pixels);
+        self.gpu.queue.write_buffer(&self.buffers.importance, 0, bytemuck::cast_slice(importance));
         self.gpu.queue.write_buffer(&self.buffers.iteration.chain_u, 0, bytemuck::cast_slice(chain_u));
         self.gpu.queue.write_buffer(&self.buffers.iteration.chains, 0, bytemuck::cast_slice(chains));
         Ok(())

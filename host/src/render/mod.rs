@@ -7,6 +7,7 @@ pub mod bootstrap;
 pub mod cpu;
 pub mod estimator;
 pub mod gpu;
+pub mod importance;
 pub mod method;
 pub mod renderer;
 pub mod settings;
@@ -60,8 +61,14 @@ pub trait Backend {
     /// One round of the path tracer: `params.samples` paths through every pixel, added to the
     /// image that the next [`Backend::drain`] moves.
     fn trace_paths(&mut self, params: &ReferenceParams) -> Result<(), RenderError>;
-    /// Sets the chains' samples (SoA) and states.
-    fn start(&mut self, chain_u: &[f32], chains: &[ChainState]) -> Result<(), RenderError>;
+    /// Sets the chains' samples (SoA) and states, and the pixel importance Ĩ their contributions
+    /// are divided by (the path estimator's; ones for the multiplexed one, which ignores it).
+    fn start(
+        &mut self,
+        chain_u: &[f32],
+        chains: &[ChainState],
+        importance: &[f32],
+    ) -> Result<(), RenderError>;
     /// One iteration of every chain.
     fn iterate(&mut self, params: &RenderParams) -> Result<(), RenderError>;
     /// Moves the splats accumulated since the last drain and the chains' tallies (steps,

@@ -14,8 +14,11 @@ use shared::mmlt::RenderParams;
 use shared::normalisation::{estimate, Estimate, Moments};
 use shared::path_tracer::ReferenceParams;
 
-use super::bootstrap::bootstrap;
-use super::{base_params, path_params, Accumulation, Backend, Budget, Method, RenderError, Settings};
+use super::bootstrap::{bootstrap, Bootstrap};
+use super::importance::pixel_importance;
+use super::{
+    base_params, path_params, Accumulation, Backend, Budget, Estimator, Method, RenderError, Settings,
+};
 use crate::scene::SceneData;
 
 /// What a render measured.
@@ -165,6 +168,8 @@ pub struct Renderer<'a> {
     base: RenderParams,
     /// The path tracer's parameters (`--method pt`), None for the Metropolis methods.
     paths: Option<ReferenceParams>,
+    /// The path estimator's pixel importance Ĩ, which the drained sums are multiplied by.
+    importance: Option<Vec<f32>>,
     bootstrap: Moments,
     acc: Accumulation,
     stats: Stats,
@@ -197,22 +202,35 @@ impl<'a> Renderer<'a> {
         };
         let mut stats = Stats { compile_seconds, ..Default::default() };
         let mut moments = Moments::default();
+        let pixels = s.width as usize * s.height as usize;
+        let mut importance = None;
         if paths.is_none() {
-            let boot = match backend.thread_pool() {
-                Some(pool) => pool.install(|| bootstrap(scene, s))?,
-                None => bootstrap(scene, s)?,
+            let begin = Instant::now();
+            // On the backend's pool: the pixel importance (the path estimator's; ones for the
+            // multiplexed one), then the bootstrap that uses it.
+            let prepare = || -> Result<(Bootstrap, Vec<f32>), RenderError> {
+                let weights = match s.estimator {
+                    Estimator::Path => pixel_importance(scene, s),
+                    Estimator::Multiplexed => vec![1.0; pixels],
+                };
+                Ok((bootstrap(scene, s, &weights)?, weights))
             };
-            backend.start(&boot.chain_u, &boot.chains)?;
+            let (boot, weights) = match backend.thread_pool() {
+                Some(pool) => pool.install(prepare)?,
+                None => prepare()?,
+            };
+            backend.start(&boot.chain_u, &boot.chains, &weights)?;
+            importance = (s.estimator == Estimator::Path).then_some(weights);
             stats.chains = base.chains;
-            stats.bootstrap_seconds = boot.seconds;
+            stats.bootstrap_seconds = begin.elapsed().as_secs_f64();
             moments = boot.moments;
         }
-        let pixels = s.width as usize * s.height as usize;
         Ok(Self {
             backend,
             settings: s.clone(),
             base,
             paths,
+            importance,
             bootstrap: moments,
             acc: Accumulation::new(pixels),
             stats,
@@ -249,9 +267,20 @@ impl<'a> Renderer<'a> {
         Ok(())
     }
 
-    /// Moves the backend's splats and tallies into the accumulation.
+    /// Moves the backend's splats and tallies into the accumulation (the path estimator's
+    /// sums times each pixel's Ĩ).
     fn drain(&mut self) -> Result<(), RenderError> {
-        self.backend.drain(&mut self.acc)?;
+        match &self.importance {
+            Some(importance) => {
+                let mut fresh = Accumulation::new(importance.len());
+                self.backend.drain(&mut fresh)?;
+                for (v, i) in fresh.image.chunks_mut(3).zip(importance) {
+                    v.iter_mut().for_each(|c| *c *= *i as f64);
+                }
+                self.acc.merge(&fresh);
+            }
+            None => self.backend.drain(&mut self.acc)?,
+        }
         self.pending = 0;
         Ok(())
     }
