@@ -1,5 +1,5 @@
 //! The path estimator's pixel importance Ĩ (`shared::pssmlt`): a short path-traced estimate of
-//! every pixel's luminance, smoothed and floored, made on the host before the chains start.
+//! every pixel's luminance, smoothed and mixed with its mean, made on the host before the chains start.
 //! Like the bootstrap it casts its rays through the device's own traversal and its samples are
 //! keyed by the seed alone, so every shard of a render, on any machine, uses the very same Ĩ.
 //! Ĩ only reshapes the chains' target: any positive Ĩ gives the same image.
@@ -13,15 +13,17 @@ use crate::scene::SceneData;
 
 /// Samples per pixel of the estimate.
 pub const IMPORTANCE_SPP: u32 = 4;
-/// The floor of Ĩ, as a fraction of the image's mean: no pixel's share of the chains falls
-/// below a tenth of an average pixel's, wherever the short estimate found little light.
-pub const IMPORTANCE_FLOOR: f32 = 0.1;
+/// What is added to the estimate, as a fraction of the image's mean (a defensive mixture):
+/// pixels much brighter than the mean get about equal shares of the chains' steps, pixels
+/// much darker a share in proportion to their light, and a pixel the short estimate found
+/// (wrongly) black never a runaway weight.
+pub const IMPORTANCE_MIX: f32 = 1.0;
 /// The estimate's round: its sample numbers start at 2^31, which no render of the path tracer
 /// (numbered from 0) reaches, so it is independent of `--method pt` and of references.
 const IMPORTANCE_ROUND: u32 = (1 << 31) / IMPORTANCE_SPP;
 
 /// Ĩ for a render with settings `s`: [`IMPORTANCE_SPP`] path-traced samples of every pixel on
-/// the current rayon pool, then [`smooth_and_floor`].
+/// the current rayon pool, then [`smooth_and_mix`].
 pub fn pixel_importance(scene: &SceneData, s: &Settings) -> Vec<f32> {
     let params = ReferenceParams {
         samples: IMPORTANCE_SPP,
@@ -35,19 +37,19 @@ pub fn pixel_importance(scene: &SceneData, s: &Settings) -> Vec<f32> {
         .into_par_iter()
         .map(|j| luminance(pixel_round(&params, view, j)) / IMPORTANCE_SPP as f32)
         .collect();
-    smooth_and_floor(&estimate, s.width, s.height, IMPORTANCE_FLOOR)
+    smooth_and_mix(&estimate, s.width, s.height, IMPORTANCE_MIX)
 }
 
 /// Ĩ from a noisy luminance estimate `l` (row-major, `width`×`height`): the mean of each pixel's
-/// 3×3 neighbourhood (clipped at the image's edges), at least `floor` times the image's mean;
-/// all ones where the estimate is zero everywhere.
-pub fn smooth_and_floor(l: &[f32], width: u32, height: u32, floor: f32) -> Vec<f32> {
+/// 3×3 neighbourhood (clipped at the image's edges) plus `mix` times the image's mean; all
+/// ones where the estimate is zero everywhere.
+pub fn smooth_and_mix(l: &[f32], width: u32, height: u32, mix: f32) -> Vec<f32> {
     let (w, h) = (width as i64, height as i64);
     let mean = l.iter().map(|&v| v as f64).sum::<f64>() / l.len().max(1) as f64;
     if !(mean > 0.0) {
         return vec![1.0; l.len()];
     }
-    let lowest = (floor as f64 * mean) as f32;
+    let added = (mix as f64 * mean) as f32;
     (0..h)
         .flat_map(|y| (0..w).map(move |x| (x, y)))
         .map(|(x, y)| {
@@ -62,7 +64,7 @@ pub fn smooth_and_floor(l: &[f32], width: u32, height: u32, floor: f32) -> Vec<f
                     }
                 }
             }
-            (sum / count.max(1.0)).max(lowest)
+            sum / count.max(1.0) + added
         })
         .collect()
 }
@@ -71,22 +73,21 @@ pub fn smooth_and_floor(l: &[f32], width: u32, height: u32, floor: f32) -> Vec<f
 mod tests {
     use super::*;
 
-    /// The 3×3 mean, clipped at the edges, floored at a fraction of the mean; a black estimate
-    /// gives ones (nothing to shape).
+    /// The 3×3 mean, clipped at the edges, plus a fraction of the mean; a black estimate gives
+    /// ones (nothing to shape).
     #[test]
-    fn smoothing_averages_neighbours_and_the_floor_holds() {
+    fn smoothing_averages_neighbours_and_adds_the_mean() {
         // 3×2 image: one bright pixel at (1, 0).
         let l = [0.0, 9.0, 0.0, 0.0, 0.0, 0.0];
-        let i = smooth_and_floor(&l, 3, 2, 0.1);
-        // Corner (0, 0): neighbours (0,0), (1,0), (0,1), (1,1): 9 / 4.
-        assert_eq!(i[0], 2.25);
+        let i = smooth_and_mix(&l, 3, 2, 0.1);
+        // Corner (0, 0): neighbours (0,0), (1,0), (0,1), (1,1): 9 / 4, plus 0.1 × the mean 1.5.
+        assert_eq!(i[0], 2.25 + 0.15);
         // (1, 1) sees all six pixels: 9 / 6.
-        assert_eq!(i[4], 1.5);
-        let j = smooth_and_floor(&l, 3, 2, 10.0);
-        // The floor: 10 × the mean 1.5.
-        assert!(j.iter().all(|&v| v == 15.0), "{j:?}");
-        assert_eq!(smooth_and_floor(&[0.0; 6], 3, 2, 0.1), vec![1.0; 6]);
-        let with_nan = smooth_and_floor(&[1.0, f32::NAN, 1.0, 1.0], 2, 2, 0.1);
+        assert_eq!(i[4], 1.5 + 0.15);
+        // (0, 1) sees (0,0), (1,0), (0,1), (1,1).
+        assert_eq!(i[3], 2.25 + 0.15);
+        assert_eq!(smooth_and_mix(&[0.0; 6], 3, 2, 0.1), vec![1.0; 6]);
+        let with_nan = smooth_and_mix(&[1.0, f32::NAN, 1.0, 1.0], 2, 2, 0.1);
         assert!(with_nan.iter().all(|v| v.is_finite()), "{with_nan:?}");
     }
 }
