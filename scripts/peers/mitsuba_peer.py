@@ -12,11 +12,13 @@ results.csv (method `mitsuba-path`; candidates = paths traced).
 compares with the reference (the mean, and the error of the image and of its mirror image, to
 catch a flipped or shifted raster) - a peer's numbers count only after this agrees.
 
-Conversion: Lambert -> `diffuse`; emitters -> one-sided `area` lights of the same radiance;
-smlt's normalised Phong lobe (any exponent > 0) -> `smlt_phong`, a Python BSDF plugin with smlt's
-own lobe, sampling and two-sided semantics (`mitsuba_phong.py`, checked by `check_phong.py`);
-smlt's max depth k (bounces, pbrt's maxdepth) -> Mitsuba's max_depth k + 1; box pixel filter
-(smlt's pixels are box averages).
+Conversion: Lambert -> `diffuse` inside `twosided` (smlt's surfaces scatter on both sides;
+`diffuse` alone is black from behind, which left the sunblind view, lit through the backs of its
+slats, 99.6 % dark); emitters -> one-sided `area` lights of the same radiance; smlt's normalised
+Phong lobe (any exponent > 0) -> `smlt_phong`, a Python BSDF plugin with smlt's own lobe,
+sampling and two-sided semantics (`mitsuba_phong.py`, checked by `check_phong.py`); smlt's max
+depth k (bounces, pbrt's maxdepth) -> Mitsuba's max_depth k + 1; box pixel filter (smlt's pixels
+are box averages).
 Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
 libllvm19 unpacked with dpkg-deb -x works), else `scalar_rgb`."""
 
@@ -65,7 +67,8 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
             # mitsuba_phong.py's plugin, registered in main()
             bsdf = {"type": "smlt_phong", "reflectance": list(mat.albedo), "exponent": mat.phong}
         else:
-            bsdf = {"type": "diffuse", "reflectance": rgb}
+            # smlt's surfaces scatter on both sides; Mitsuba's `diffuse` alone is black from behind
+            bsdf = {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb}}
         shape = {"type": "ply", "filename": path, "face_normals": True, "bsdf": bsdf}
         if max(mat.emission) > 0:
             shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(mat.emission)}}
