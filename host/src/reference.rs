@@ -12,7 +12,7 @@ use shared::path_tracer::ReferenceParams;
 use crate::gpu::Gpu;
 use crate::passes;
 use crate::passes::buffers::{OnDevice, SceneBuffers};
-use crate::render::RenderError;
+use crate::render::{reference_params, RenderError};
 use crate::scene::SceneData;
 
 /// What defines a reference image.
@@ -109,18 +109,7 @@ pub fn render_reference(
     per_round: u32,
     mut progress: impl FnMut(f64),
 ) -> Result<Reference, RenderError> {
-    let base = ReferenceParams {
-        camera: scene.camera(s.width, s.height),
-        width: s.width,
-        height: s.height,
-        max_depth: s.max_depth,
-        seed: s.seed,
-        light_count: scene.lights.len() as u32,
-        epsilon: scene.epsilon(),
-        samples: per_round,
-        round: 0,
-        samples_per_round: per_round,
-    };
+    let base = reference_params(scene, (s.width, s.height), s.max_depth, s.seed, per_round);
     let pixels = (s.width * s.height) as usize;
     let rounds = s.spp.div_ceil(per_round);
     let mut sum = vec![0.0f64; pixels * 3];

@@ -202,22 +202,34 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
     }
 }
 
-/// The path tracer's parameters for this render (`round` 0; the renderer sets each
-/// iteration's).
-pub fn path_params(scene: &SceneData, s: &Settings) -> ReferenceParams {
-    let samples = s.samples_per_round();
+/// The path tracer's parameters for a `width`×`height` image of `scene` with `max_depth`
+/// bounces and `seed`, in rounds of `samples` samples per pixel (`round` 0; each round sets
+/// its own): what `smlt reference` and `--method pt` run.
+pub fn reference_params(
+    scene: &SceneData,
+    (width, height): (u32, u32),
+    max_depth: u32,
+    seed: u32,
+    samples: u32,
+) -> ReferenceParams {
     ReferenceParams {
-        camera: scene.camera(s.width, s.height),
-        width: s.width,
-        height: s.height,
-        max_depth: s.max_depth,
-        seed: s.seed,
+        camera: scene.camera(width, height),
+        width,
+        height,
+        max_depth,
+        seed,
         light_count: scene.lights.len() as u32,
         epsilon: scene.epsilon(),
         samples,
         round: 0,
         samples_per_round: samples,
     }
+}
+
+/// The path tracer's parameters for this render ([`reference_params`] in rounds of
+/// [`Settings::samples_per_round`]).
+pub fn path_params(scene: &SceneData, s: &Settings) -> ReferenceParams {
+    reference_params(scene, (s.width, s.height), s.max_depth, s.seed, s.samples_per_round())
 }
 
 #[cfg(test)]
