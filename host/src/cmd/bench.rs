@@ -26,7 +26,7 @@ pub struct Args {
     pub scenes: Vec<(String, u32)>,
     /// Methods, comma-separated (pt: the path tracer; path-<method>: the chains over the path
     /// tracer's estimate).
-    #[arg(long, value_delimiter = ',', default_value = "pt,naive,s2,s3,s4,s5,s6,rc2,rc4,rc8,rc16,rc32,rc64", value_parser = |s: &str| s.parse::<Sampler>())]
+    #[arg(long, value_delimiter = ',', default_value = "pt,naive,path-naive,s2,s3,s4,s5,s6,rc2,rc4,rc8,rc16,rc32,rc64", value_parser = |s: &str| s.parse::<Sampler>())]
     pub methods: Vec<Sampler>,
     /// Render seconds per method (errors are also measured at 1, 2, 4, … s).
     #[arg(long, default_value_t = 8.0, value_parser = positive_f64)]
