@@ -156,6 +156,8 @@ fn bad_input_gets_one_line_and_no_output() {
         (vec!["render".into(), "--method".into(), "bogus".into()], "bogus"),
         (vec!["render".into(), "--method".into(), "rc1".into()], "rc1"),
         (vec!["render".into(), "--method".into(), "rc65".into()], "rc65"),
+        (vec!["render".into(), "--method".into(), "path-pt".into()], "use pt"),
+        (vec!["render".into(), "--method".into(), "path-foo".into()], "'path-foo' is not a method"),
         (vec!["render".into(), "--width".into(), "0".into()], "width"),
         (vec!["render".into(), "--time".into(), "-1".into()], "time"),
         (vec!["render".into(), "--time".into(), "0".into()], "time"),

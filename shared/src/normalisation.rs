@@ -1,6 +1,8 @@
 //! The image normalisation b: the total of the target over the whole sample space,
 //! `b = Σ_k ∫ c_k(u) du = (k_max + 1) · E[c]` where (u, depth) is drawn uniformly (Kelemen et
-//! al. 2002, §4; pbrt-v3's `MLTIntegrator` bootstrap). The chains only say how b is spread
+//! al. 2002, §4; pbrt-v3's `MLTIntegrator` bootstrap) — for the multiplexed estimator; the path
+//! estimator's state u spans every depth at once and its b is E[c] (`crate::mmlt::state_depths`
+//! is the factor). The chains only say how b is spread
 //! over the pixels; b sets the image's overall brightness, so its error is in every pixel.
 //!
 //! Two kinds of samples are independent draws of that same uniform (u, depth):

@@ -116,6 +116,20 @@ pub struct PathSettings {
     pub epsilon: f32,
 }
 
+impl From<&ReferenceParams> for PathSettings {
+    #[inline]
+    fn from(p: &ReferenceParams) -> Self {
+        Self { camera: p.camera, max_depth: p.max_depth, light_count: p.light_count, epsilon: p.epsilon }
+    }
+}
+
+impl From<&crate::mmlt::RenderParams> for PathSettings {
+    #[inline]
+    fn from(p: &crate::mmlt::RenderParams) -> Self {
+        Self { camera: p.camera, max_depth: p.max_depth, light_count: p.light_count, epsilon: p.epsilon }
+    }
+}
+
 /// One path-traced estimate of the radiance arriving through raster point (`x`, `y`), with
 /// the vertices' uniforms from `samples`.
 #[inline]
@@ -212,12 +226,7 @@ pub fn pixel_sample<R: RayCaster>(
     pixel: u32,
     sample: u32,
 ) -> Vec3 {
-    let settings = PathSettings {
-        camera: params.camera,
-        max_depth: params.max_depth,
-        light_count: params.light_count,
-        epsilon: params.epsilon,
-    };
+    let settings = PathSettings::from(params);
     let samples = KeyedSamples::new(params.seed, pixel, sample);
     let jitter = samples.raster();
     let x = (pixel % params.width) as f32 + jitter.x;

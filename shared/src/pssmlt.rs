@@ -78,12 +78,7 @@ pub fn path_candidate<R: RayCaster>(
     let raster = chain.raster();
     let cam = params.camera;
     let (x, y) = (raster.x * cam.width, raster.y * cam.height);
-    let settings = PathSettings {
-        camera: cam,
-        max_depth: params.max_depth,
-        light_count: params.light_count,
-        epsilon: params.epsilon,
-    };
+    let settings = PathSettings::from(params);
     let l = trace_path(&settings, scene, (x, y), &chain);
     let pixel = cam.pixel(x, y);
     pack_contribution(l, 1.0 / importance[pixel as usize], pixel)

@@ -172,7 +172,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "{} samples per pixel an iteration{}",
             settings.samples_per_round(),
             match a.shard {
-                Some(k) => format!("; shard {k}: every {}th round", k.count),
+                Some(k) => format!("; shard {k}: rounds {}, {}, …", k.index - 1, k.index - 1 + k.count),
                 None => String::new(),
             }
         ),
@@ -301,6 +301,12 @@ pub fn print_summary(r: &render::Rendered, method: Method, p_large: f32) {
     println!("NaN/Inf rejected     {}", s.invalid);
     if let Some(seconds) = s.compile_seconds {
         println!("kernels compiled     {seconds:.2} s (before the clock)");
+    }
+    if let Some(seconds) = s.importance_seconds {
+        println!(
+            "pixel importance     {} spp in {seconds:.2} s (before the clock)",
+            crate::render::importance::IMPORTANCE_SPP
+        );
     }
     if s.bootstrap_seconds > 0.0 {
         println!("bootstrap            {} samples in {:.2} s", s.bootstrap_samples, s.bootstrap_seconds);

@@ -8,7 +8,7 @@ use glam::Vec4;
 use shared::bsdf::Material;
 use shared::cwbvh::WideNode;
 use shared::light::LightEntry;
-use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex, RenderParams};
+use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex, RenderParams, ESTIMATOR_PATH};
 use shared::triangle::Triangle;
 
 use super::Stage;
@@ -95,7 +95,15 @@ impl<S: Storage> IterationBuffers<S> {
             chains: s.zeroed("chain states", n),
             cand_u: s.zeroed("candidate samples", c * dims),
             cand_depth: s.zeroed("candidate depths", c),
-            vertices: s.zeroed("vertices", c * vertex_slots(params.max_depth) as usize),
+            // The path estimator keeps no subpath vertices (one element: a binding is never empty).
+            vertices: s.zeroed(
+                "vertices",
+                if params.estimator == ESTIMATOR_PATH {
+                    1
+                } else {
+                    c * vertex_slots(params.max_depth) as usize
+                },
+            ),
             paths: s.zeroed("path infos", c),
             contributions: s.zeroed("contributions", c),
             splats: s.zeroed("splat records", Stage::Splat.invocations(params) as usize),

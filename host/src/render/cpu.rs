@@ -123,7 +123,8 @@ pub struct CpuBackend<'a> {
     chains: u32,
     dims: u32,
     image: Vec<f64>,
-    /// The path tracer's f32 round, as the device's image holds it.
+    /// The path tracer's round, summed per pixel in f32 as the kernel body does, then added to
+    /// the f64 image (a device sums several rounds in f32 before its drain).
     round: Vec<f32>,
 }
 

@@ -56,20 +56,23 @@ impl std::fmt::Display for Sampler {
 impl FromStr for Sampler {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        match s.strip_prefix(PATH_PREFIX) {
-            Some(rest) => match rest.parse::<Method>()? {
-                Method::PathTracer => Err(format!("'{s}': the path tracer has no chains; use pt")),
-                method => Ok(Sampler { method, estimator: Estimator::Path }),
-            },
-            None => Ok(Sampler { method: s.parse()?, estimator: Estimator::Multiplexed }),
-        }
-        .map_err(|e| {
+        let hint = |e: String| {
             if e.contains("is not a method") {
-                format!("{e}, each optionally as path-<method>")
+                format!(
+                    "'{s}' is not a method: use pt, naive, s<d> (d in 1..=8) or rc<l> (l in 2..=64), \
+                     the last three also as path-<method>"
+                )
             } else {
                 e
             }
-        })
+        };
+        match s.strip_prefix(PATH_PREFIX) {
+            Some(rest) => match rest.parse::<Method>().map_err(hint)? {
+                Method::PathTracer => Err(format!("'{s}': the path tracer has no chains; use pt")),
+                method => Ok(Sampler { method, estimator: Estimator::Path }),
+            },
+            None => Ok(Sampler { method: s.parse().map_err(hint)?, estimator: Estimator::Multiplexed }),
+        }
     }
 }
 
@@ -93,5 +96,8 @@ mod tests {
         for bad in ["path-pt", "path-", "path-s0", "path", "paths-s3", "path-path-s3"] {
             assert!(bad.parse::<Sampler>().is_err(), "{bad}");
         }
+        // The user's own word is named back.
+        let e = "path-foo".parse::<Sampler>().unwrap_err();
+        assert!(e.starts_with("'path-foo' is not a method") && e.contains("path-<method>"), "{e}");
     }
 }

@@ -76,8 +76,8 @@ pub trait Backend {
     fn drain(&mut self, acc: &mut Accumulation) -> Result<(), RenderError>;
     /// A description of the device.
     fn describe(&self) -> String;
-    /// The thread pool the host-side work of a render (the bootstrap) runs on; None: rayon's
-    /// global pool.
+    /// The thread pool the host-side work of a render (the pixel importance, the bootstrap)
+    /// runs on; None: rayon's global pool.
     fn thread_pool(&self) -> Option<&rayon::ThreadPool> {
         None
     }

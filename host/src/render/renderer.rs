@@ -49,6 +49,9 @@ pub struct Stats {
     pub compile_seconds: Option<f64>,
     /// Seconds of the bootstrap.
     pub bootstrap_seconds: f64,
+    /// Seconds of the path estimator's pixel importance (`super::importance`), before the
+    /// clock like the bootstrap; None for the other methods.
+    pub importance_seconds: Option<f64>,
     /// Seconds of the iterations (what `--time` counts).
     pub render_seconds: f64,
 }
@@ -177,9 +180,10 @@ pub struct Renderer<'a> {
 }
 
 impl<'a> Renderer<'a> {
-    /// Prepares the backend's kernels (telling `observer`), bootstraps (on the host: the same
-    /// for every shard and device) and starts this shard's chains. None of it counts as render
-    /// time. The path tracer only prepares its kernel.
+    /// Prepares the backend's kernels (telling `observer`), makes the path estimator's pixel
+    /// importance and bootstraps (on the host: the same for every shard and device) and starts
+    /// this shard's chains. None of it counts as render time. The path tracer only prepares
+    /// its kernel.
     pub fn start(
         scene: &SceneData,
         s: &Settings,
@@ -205,24 +209,25 @@ impl<'a> Renderer<'a> {
         let pixels = s.width as usize * s.height as usize;
         let mut importance = None;
         if paths.is_none() {
-            let begin = Instant::now();
             // On the backend's pool: the pixel importance (the path estimator's; ones for the
             // multiplexed one), then the bootstrap that uses it.
-            let prepare = || -> Result<(Bootstrap, Vec<f32>), RenderError> {
-                let weights = match s.estimator {
-                    Estimator::Path => pixel_importance(scene, s),
-                    Estimator::Multiplexed => vec![1.0; pixels],
+            let prepare = || -> Result<(Bootstrap, Vec<f32>, Option<f64>), RenderError> {
+                let begin = Instant::now();
+                let (weights, seconds) = match s.estimator {
+                    Estimator::Path => (pixel_importance(scene, s), Some(begin.elapsed().as_secs_f64())),
+                    Estimator::Multiplexed => (vec![1.0; pixels], None),
                 };
-                Ok((bootstrap(scene, s, &weights)?, weights))
+                Ok((bootstrap(scene, s, &weights)?, weights, seconds))
             };
-            let (boot, weights) = match backend.thread_pool() {
+            let (boot, weights, importance_seconds) = match backend.thread_pool() {
                 Some(pool) => pool.install(prepare)?,
                 None => prepare()?,
             };
             backend.start(&boot.chain_u, &boot.chains, &weights)?;
             importance = (s.estimator == Estimator::Path).then_some(weights);
             stats.chains = base.chains;
-            stats.bootstrap_seconds = begin.elapsed().as_secs_f64();
+            stats.bootstrap_seconds = boot.seconds;
+            stats.importance_seconds = importance_seconds;
             moments = boot.moments;
         }
         Ok(Self {
@@ -335,6 +340,10 @@ pub fn render(
     while used(r.stats()) < 1.0 && !observer.stop_requested() {
         r.iterate()?;
         let stats = r.stats();
+        // The last iteration's image is the result, not a checkpoint.
+        if used(stats) >= 1.0 || observer.stop_requested() {
+            break;
+        }
         if stats.iterations.is_multiple_of(DRAIN_EVERY) {
             observer.progress(used(stats).min(1.0));
             if observer.checkpoint_due(stats.render_seconds) {

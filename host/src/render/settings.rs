@@ -100,9 +100,14 @@ pub struct Settings {
 }
 
 impl Settings {
-    /// The method with its estimator (its name in tables and part files).
+    /// The method with its estimator (its name in tables and part files; the path tracer has
+    /// no chains, so no estimator).
     pub fn sampler(&self) -> Sampler {
-        Sampler { method: self.method, estimator: self.estimator }
+        let estimator = match self.method {
+            Method::PathTracer => Estimator::Multiplexed,
+            _ => self.estimator,
+        };
+        Sampler { method: self.method, estimator }
     }
 
     /// How many path depths a chain state spans (the factor of b).

@@ -8,7 +8,8 @@ use super::sample_dimensions;
 
 /// Mode of a render dispatch: advancing chains.
 pub const MODE_CHAINS: u32 = 0;
-/// Mode of a render dispatch: bootstrap (fresh samples, depth = sample index mod (k_max + 1)).
+/// Mode of a render dispatch: bootstrap (fresh samples; the multiplexed estimator's depth =
+/// sample index mod (k_max + 1), the path estimator's k_max).
 pub const MODE_BOOTSTRAP: u32 = 1;
 /// Iteration word of the random keys of bootstrap samples.
 pub const BOOTSTRAP_ITERATION: u32 = u32::MAX;
@@ -140,14 +141,14 @@ impl RenderParams {
         self.estimator == ESTIMATOR_PATH || super::dimensions_used(first, count, depth, self.max_depth)
     }
 
-    /// The depth of a candidate whose proposal draws a fresh depth `fresh` (a large step or a
-    /// bootstrap sample) or keeps its chain's `kept`: the path estimator's chains all span
-    /// every depth, and keep max_depth.
+    /// The depth of a candidate whose proposal is `large` (a large step or a bootstrap sample,
+    /// which takes the freshly drawn `fresh_depth`) or a small step (which keeps its chain's
+    /// `kept`): the path estimator's chains all span every depth, and keep max_depth.
     #[inline]
-    pub fn candidate_depth(&self, fresh: bool, fresh_depth: u32, kept: u32) -> u32 {
+    pub fn candidate_depth(&self, large: bool, fresh_depth: u32, kept: u32) -> u32 {
         if self.estimator == ESTIMATOR_PATH {
             self.max_depth
-        } else if fresh {
+        } else if large {
             fresh_depth
         } else {
             kept
