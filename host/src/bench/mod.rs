@@ -24,6 +24,7 @@ pub mod tables;
 use std::path::{Path, PathBuf};
 
 use shared::mmlt::RenderParams;
+use shared::mutation::MutationParams;
 
 use crate::gpu::Gpu;
 use crate::reference::{cached_or_render, ReferenceSettings};
@@ -66,6 +67,8 @@ pub struct BenchSettings {
     pub reference: Option<PathBuf>,
     /// Folder for `results.csv`, `passes.csv`, `tables.md`, the plots and the references.
     pub out: PathBuf,
+    /// The Metropolis methods' mutation schedule.
+    pub mutation: MutationParams,
 }
 
 /// The render times at which every method is measured: 1, 2, 4, … below `seconds`, and `seconds`.
@@ -193,7 +196,7 @@ fn equal_time(
             budget: Budget::Seconds(b.seconds),
             candidates,
             bootstrap_samples: render::DEFAULT_BOOTSTRAP,
-            mutation: Default::default(),
+            mutation: b.mutation,
             shard: render::Shard::WHOLE,
         })
         .collect();

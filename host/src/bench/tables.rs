@@ -126,6 +126,7 @@ mod tests {
             repeats: 1,
             reference: None,
             out: "out".into(),
+            mutation: Default::default(),
         };
         let noises = [("cornell".to_string(), 1, Some(0.01))];
         assert!(reference_table(&b, &[], &noises).contains("### References (512 spp;"));

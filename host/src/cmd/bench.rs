@@ -3,7 +3,9 @@
 
 use std::path::PathBuf;
 
-use super::args::{positive_f64, DeviceArgs, PathArgs};
+use shared::mutation::MutationParams;
+
+use super::args::{positive_f64, unit_f32, DeviceArgs, PathArgs};
 use crate::render::Sampler;
 
 /// A scene with an optional view: `atrium:2`.
@@ -64,6 +66,9 @@ pub struct Args {
     /// Output folder.
     #[arg(long, default_value = "bench")]
     pub out: PathBuf,
+    /// Probability of a large step, for every Metropolis method (as `smlt render --p-large`).
+    #[arg(long, default_value_t = MutationParams::default().p_large, value_parser = unit_f32)]
+    pub p_large: f32,
 }
 
 /// Runs `smlt bench`.
@@ -86,6 +91,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         repeats: a.repeats,
         reference: a.reference.clone(),
         out: a.out.clone(),
+        mutation: MutationParams { p_large: a.p_large, ..Default::default() },
     };
     crate::bench::run(&settings, device.gpu.as_ref(), |line| println!("{line}"))?;
     println!("wrote {}/results.csv and {}/tables.md", a.out.display(), a.out.display());
