@@ -553,7 +553,7 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
         let mut dev = gpu::GpuBackend::new(gpu.clone(), &scene, &base).expect("device buffers");
         let mut cpu = render::cpu::CpuBackend::new(&scene, &base, 2).expect("threads");
         for backend in [&mut dev as &mut dyn Backend, &mut cpu] {
-            backend.trace_paths(&round).unwrap();
+            backend.trace_reference_round(&round).unwrap();
             let mut acc = render::Accumulation::new(24 * 16);
             backend.drain(&mut acc).unwrap();
             images.push(acc.image);

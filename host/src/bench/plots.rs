@@ -10,7 +10,7 @@ use std::sync::Once;
 use plotters::prelude::*;
 
 use crate::bench::results::{along_time, final_interval, first_seen, views, Row};
-use crate::render::Method;
+use crate::render::Sampler;
 
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
@@ -23,24 +23,32 @@ fn register_font() {
 }
 
 /// Fig. 7: speedup of candidates/s over naive (final measurements) against candidates per
-/// chain (2^d − 1 for s<d>, l for rc<l>), on a log axis.
+/// chain (2^d − 1 for s<d>, l for rc<l>), on a log axis; the path estimator's trees and reject
+/// chains over path-naive.
 pub fn speedup_plot(rows: &[Row], path: &Path) -> anyhow::Result<()> {
     register_font();
     let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let speed = |r: &Row| r.mutations_per_s;
+    // Each family over the naive chains of its own estimator.
+    let families = [
+        ("SMLT", "s", "naive"),
+        ("RCMLT", "rc", "naive"),
+        ("SMLT path", "path-s", "path-naive"),
+        ("RCMLT path", "path-rc", "path-naive"),
+    ];
     for (scene, view) in views(rows) {
-        let Some(naive) = final_interval(rows, &scene, view, "naive", speed) else { continue };
         let methods =
             first_seen(rows.iter().filter(|r| r.scene == scene && r.view == view).map(|r| r.method.as_str()));
-        for (family, prefix) in [("SMLT", 's'), ("RCMLT", 'r')] {
+        for (family, prefix, base) in families {
+            let Some(naive) = final_interval(rows, &scene, view, base, speed) else { continue };
             let mut points = vec![(1.0, 1.0)];
             for name in methods.iter().filter(|m| m.starts_with(prefix)) {
                 let (Ok(m), Some(x)) =
-                    (name.parse::<Method>(), final_interval(rows, &scene, view, name, speed))
+                    (name.parse::<Sampler>(), final_interval(rows, &scene, view, name, speed))
                 else {
                     continue;
                 };
-                points.push((m.candidates_per_chain() as f64, x.mean / naive.mean));
+                points.push((m.method.candidates_per_chain() as f64, x.mean / naive.mean));
             }
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
             if points.len() > 1 {

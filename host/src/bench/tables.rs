@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use crate::bench::interval::{clear_best, Interval};
 use crate::bench::results::{final_interval, views, Row};
 use crate::bench::BenchSettings;
+use crate::render::{Estimator, Method, Sampler};
 
 /// The seed's Table 3 (million mutations/s) and Table 4 (PSNR after the full time), with RMSE
 /// and relMSE, as Markdown: methods down, scene views across, each cell the mean over the
@@ -29,7 +30,12 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
             3,
             true,
         ),
-        ("Speedup of mutations/s over naive (ratio of the means)".into(), |r| r.mutations_per_s, 2, true),
+        (
+            "Speedup of mutations/s over naive (path-*: over path-naive; ratio of the means)".into(),
+            |r| r.mutations_per_s,
+            2,
+            true,
+        ),
         (format!("PSNR (dB, peak 1 on clamped values) after {seconds} s"), |r| r.errors.psnr, 2, true),
         (format!("RMSE after {seconds} s"), |r| r.errors.rmse, 4, false),
         (format!("relMSE after {seconds} s"), |r| r.errors.relmse, 4, false),
@@ -59,12 +65,13 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
             let text: String = (0..columns.len())
                 .map(|c| match (t, cells[i][c]) {
                     (_, None) => " — |".to_string(),
-                    // Paths per second are not candidates per second of a chain.
-                    (1, Some(_)) if m == "pt" => " — |".to_string(),
-                    (1, Some(x)) => {
-                        let naive = final_interval(rows, &columns[c].0, columns[c].1, "naive", value);
-                        naive.map_or(" — |".to_string(), |n| format!(" {:.2}× |", x.mean / n.mean))
-                    }
+                    // Over the naive chains of the same estimator; paths per second (the path
+                    // tracer's, a peer's) are not candidates per second of a chain.
+                    (1, Some(x)) => match speedup_baseline(m) {
+                        Some(base) => final_interval(rows, &columns[c].0, columns[c].1, base, value)
+                            .map_or(" — |".to_string(), |n| format!(" {:.2}× |", x.mean / n.mean)),
+                        None => " — |".to_string(),
+                    },
                     (_, Some(x)) if best[c] == Some(i) => format!(" **{}** |", x.show(*decimals)),
                     (_, Some(x)) => format!(" {} |", x.show(*decimals)),
                 })
@@ -74,6 +81,17 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
         out.push('\n');
     }
     out
+}
+
+/// The method a row's candidates/s speedup is measured against: the naive chains of its own
+/// estimator; None for the path tracer and for peers.
+pub fn speedup_baseline(method: &str) -> Option<&'static str> {
+    match method.parse::<Sampler>() {
+        Ok(s) if s.method == Method::PathTracer => None,
+        Ok(s) if s.estimator == Estimator::Path => Some("path-naive"),
+        Ok(_) => Some("naive"),
+        Err(_) => None,
+    }
 }
 
 /// estimated reference RMSE and the smallest final RMSE of any method.
@@ -106,6 +124,23 @@ pub fn reference_table(b: &BenchSettings, rows: &[Row], noises: &[(String, u32, 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Speedups are over the naive chains of the same estimator; the path tracer and peers
+    /// trace paths, not candidates of chains, and get none.
+    #[test]
+    fn speedups_compare_chains_of_one_estimator() {
+        for (method, base) in [
+            ("s3", Some("naive")),
+            ("rc16", Some("naive")),
+            ("naive", Some("naive")),
+            ("path-s3", Some("path-naive")),
+            ("path-rc4", Some("path-naive")),
+            ("pt", None),
+            ("mitsuba-path", None),
+        ] {
+            assert_eq!(speedup_baseline(method), base, "{method}");
+        }
+    }
 
     /// The references' table says where the reference came from: rendered at its spp, or an
     /// external file the bench did not render (whose own noise it does not know).

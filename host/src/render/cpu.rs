@@ -212,7 +212,7 @@ impl CpuBackend<'_> {
 impl Backend for CpuBackend<'_> {
     /// The reference pass's body over the pixels on the pool, into an f32 round (as the device
     /// sums a pixel's samples), added to the f64 image.
-    fn trace_paths(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
+    fn trace_reference_round(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
         self.round.clear();
         self.round.resize(self.image.len(), 0.0);
         let (scene, round) = (self.scene, &mut self.round);

@@ -17,8 +17,8 @@ pub struct GpuBackend {
     buffers: GpuBuffers,
     /// One pass per stage, in [`Stage::ITERATION`] order.
     passes: Vec<Pass>,
-    /// The path tracer's parameters and pass (made at its first use).
-    paths: Option<(wgpu::Buffer, Pass)>,
+    /// The `reference` pass (the path tracer's) and its parameters (made at its first use).
+    reference: Option<(wgpu::Buffer, Pass)>,
     pixels: usize,
     chains: u32,
     dims: u32,
@@ -58,12 +58,12 @@ impl GpuBackend {
         let pixels = (params.width * params.height) as usize;
         let buffers = GpuBuffers::new(&mut OnDevice(gpu.clone()), scene, params);
         let passes = Stage::ITERATION.iter().map(|s| s.pass(&gpu, &buffers)).collect::<Result<_, _>>()?;
-        Ok(Self { gpu, buffers, passes, paths: None, pixels, chains: params.chains, dims: params.dims })
+        Ok(Self { gpu, buffers, passes, reference: None, pixels, chains: params.chains, dims: params.dims })
     }
 
     /// Runs the path tracer's pass over `pixels` invocations with `params`, and waits.
-    fn dispatch_paths(&mut self, params: &ReferenceParams, pixels: u32) -> Result<(), RenderError> {
-        if self.paths.is_none() {
+    fn dispatch_reference(&mut self, params: &ReferenceParams, pixels: u32) -> Result<(), RenderError> {
+        if self.reference.is_none() {
             let buffer = self.gpu.storage_from("path tracer params", &[*params]);
             let scene = &self.buffers.scene;
             let pass = crate::passes::reference::gpu(
@@ -77,9 +77,9 @@ impl GpuBackend {
                     &self.buffers.image,
                 ],
             )?;
-            self.paths = Some((buffer, pass));
+            self.reference = Some((buffer, pass));
         }
-        let (buffer, pass) = self.paths.as_ref().expect("made above");
+        let (buffer, pass) = self.reference.as_ref().expect("made above");
         self.gpu.queue.write_buffer(buffer, 0, bytemuck::bytes_of(params));
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         pass.encode(&self.gpu, &mut encoder, pixels);
@@ -148,16 +148,16 @@ impl Backend for GpuBackend {
     }
 
     /// One workgroup over an empty image (its invocations return at once).
-    fn warm_up_paths(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
-        self.dispatch_paths(&ReferenceParams { width: 0, height: 0, ..*params }, 1)?;
+    fn warm_up_reference(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
+        self.dispatch_reference(&ReferenceParams { width: 0, height: 0, ..*params }, 1)?;
         self.gpu.save_pipeline_cache();
         Ok(())
     }
 
     /// The reference pass adds each pixel's samples to the image's f32 (no atomics: one
     /// invocation a pixel).
-    fn trace_paths(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
-        self.dispatch_paths(params, params.width * params.height)
+    fn trace_reference_round(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
+        self.dispatch_reference(params, params.width * params.height)
     }
 
     fn start(

@@ -55,12 +55,12 @@ pub trait Backend {
         Ok(())
     }
     /// Prepares the path tracer's kernel (`--method pt`), as [`Backend::warm_up`] the chains'.
-    fn warm_up_paths(&mut self, _params: &ReferenceParams) -> Result<(), RenderError> {
+    fn warm_up_reference(&mut self, _params: &ReferenceParams) -> Result<(), RenderError> {
         Ok(())
     }
     /// One round of the path tracer: `params.samples` paths through every pixel, added to the
     /// image that the next [`Backend::drain`] moves.
-    fn trace_paths(&mut self, params: &ReferenceParams) -> Result<(), RenderError>;
+    fn trace_reference_round(&mut self, params: &ReferenceParams) -> Result<(), RenderError>;
     /// Sets the chains' samples (SoA) and states, and the pixel importance Ĩ their contributions
     /// are divided by (the path estimator's; ones for the multiplexed one, which ignores it).
     fn start(

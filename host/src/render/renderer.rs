@@ -169,8 +169,9 @@ pub struct Renderer<'a> {
     backend: &'a mut dyn Backend,
     settings: Settings,
     base: RenderParams,
-    /// The path tracer's parameters (`--method pt`), None for the Metropolis methods.
-    paths: Option<ReferenceParams>,
+    /// The path tracer's `reference` rounds' parameters (`--method pt`), None for the
+    /// Metropolis methods.
+    reference: Option<ReferenceParams>,
     /// The path estimator's pixel importance Ĩ, which the drained sums are multiplied by.
     importance: Option<Vec<f32>>,
     bootstrap: Moments,
@@ -191,12 +192,12 @@ impl<'a> Renderer<'a> {
         observer: &mut dyn Observer,
     ) -> Result<Self, RenderError> {
         let base = base_params(scene, s);
-        let paths = (s.method == Method::PathTracer).then(|| path_params(scene, s));
+        let reference = (s.method == Method::PathTracer).then(|| path_params(scene, s));
         let compile_seconds = if backend.compiles_kernels() {
             let compile = Instant::now();
             observer.compiling();
-            match &paths {
-                Some(p) => backend.warm_up_paths(p)?,
+            match &reference {
+                Some(p) => backend.warm_up_reference(p)?,
                 None => backend.warm_up(&base)?,
             }
             observer.compiled();
@@ -208,7 +209,7 @@ impl<'a> Renderer<'a> {
         let mut moments = Moments::default();
         let pixels = s.width as usize * s.height as usize;
         let mut importance = None;
-        if paths.is_none() {
+        if reference.is_none() {
             // On the backend's pool: the pixel importance (the path estimator's; ones for the
             // multiplexed one), then the bootstrap that uses it.
             let prepare = || -> Result<(Bootstrap, Vec<f32>, Option<f64>), RenderError> {
@@ -234,7 +235,7 @@ impl<'a> Renderer<'a> {
             backend,
             settings: s.clone(),
             base,
-            paths,
+            reference,
             importance,
             bootstrap: moments,
             acc: Accumulation::new(pixels),
@@ -247,10 +248,10 @@ impl<'a> Renderer<'a> {
     /// to the render time.
     pub fn iterate(&mut self) -> Result<(), RenderError> {
         let start = Instant::now();
-        match self.paths {
+        match self.reference {
             Some(p) => {
                 let round = self.settings.round(self.stats.iterations);
-                self.backend.trace_paths(&ReferenceParams { round, ..p })?;
+                self.backend.trace_reference_round(&ReferenceParams { round, ..p })?;
                 // Every path is a sample of weight one: W counts them.
                 let paths = p.samples as u64 * p.width as u64 * p.height as u64;
                 self.acc.candidates += paths;
