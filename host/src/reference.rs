@@ -10,9 +10,11 @@ use std::path::{Path, PathBuf};
 use shared::path_tracer::ReferenceParams;
 
 use crate::gpu::Gpu;
-use crate::passes;
-use crate::passes::buffers::{OnDevice, SceneBuffers};
-use crate::render::{reference_params, RenderError};
+use crate::render::cpu::{default_threads, CpuBackend};
+use crate::render::gpu::GpuBackend;
+use crate::render::{
+    base_params, reference_params, Accumulation, Backend, Budget, Method, RenderError, Settings, Shard,
+};
 use crate::scene::SceneData;
 
 /// What defines a reference image.
@@ -101,7 +103,8 @@ pub struct Reference {
     pub noise_rmse: f64,
 }
 
-/// Renders the reference: `spp` samples per pixel in rounds of `per_round`, on `gpu` or the CPU.
+/// Renders the reference: `spp` samples per pixel in rounds of `per_round`, on `gpu` or the CPU
+/// — the `reference` pass of a render backend, drained after every round.
 pub fn render_reference(
     scene: &SceneData,
     s: &ReferenceSettings,
@@ -109,65 +112,48 @@ pub fn render_reference(
     per_round: u32,
     mut progress: impl FnMut(f64),
 ) -> Result<Reference, RenderError> {
-    let base = reference_params(scene, (s.width, s.height), s.max_depth, s.seed, per_round);
     let pixels = (s.width * s.height) as usize;
+    // The path tracer's render settings: a backend holds the scene, the image and the pass.
+    let settings = Settings {
+        width: s.width,
+        height: s.height,
+        max_depth: s.max_depth,
+        seed: s.seed,
+        method: Method::PathTracer,
+        estimator: Default::default(),
+        budget: Budget::MutationsPerPixel(s.spp as f64),
+        candidates: per_round.saturating_mul(pixels as u32),
+        bootstrap_samples: 1,
+        mutation: Default::default(),
+        shard: Shard::WHOLE,
+    };
+    let params = base_params(scene, &settings);
+    let mut backend: Box<dyn Backend + '_> = match gpu {
+        Some(gpu) => Box::new(GpuBackend::new(gpu.clone(), scene, &params)?),
+        None => Box::new(CpuBackend::new(scene, &params, default_threads())?),
+    };
+    let base = reference_params(scene, (s.width, s.height), s.max_depth, s.seed, per_round);
+    if backend.compiles_kernels() {
+        backend.warm_up_reference(&base)?;
+    }
     let rounds = s.spp.div_ceil(per_round);
     let mut sum = vec![0.0f64; pixels * 3];
     // Σ of each round's per-pixel mean, and of its square, for the noise estimate.
     let mut round_means = vec![0.0f64; pixels * 3];
     let mut round_squares = vec![0.0f64; pixels * 3];
-    let mut add_round = |part: &[f32], samples: u32| {
-        for i in 0..part.len() {
-            let v = part[i] as f64;
-            sum[i] += v;
-            let y = v / samples as f64;
-            round_means[i] += y;
-            round_squares[i] += y * y;
+    let mut part = Accumulation::new(pixels);
+    for i in 0..rounds {
+        let p = ReferenceParams { round: i, samples: per_round.min(s.spp - i * per_round), ..base };
+        backend.trace_reference_round(&p)?;
+        backend.drain(&mut part)?;
+        for (j, v) in part.image.iter_mut().enumerate() {
+            sum[j] += *v;
+            let y = *v / p.samples as f64;
+            round_means[j] += y;
+            round_squares[j] += y * y;
+            *v = 0.0;
         }
-    };
-    match gpu {
-        Some(gpu) => {
-            let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
-            if (pixels * 12) as u64 > limit {
-                return Err(RenderError::TooLarge(format!(
-                    "the reference image needs {:.1} MiB but the device allows {:.1} MiB per storage buffer \
-                     (max_storage_buffer_binding_size); lower the resolution",
-                    (pixels * 12) as f64 / 1048576.0,
-                    limit as f64 / 1048576.0
-                )));
-            }
-            let params = gpu.storage_from("reference params", &[base]);
-            let b = SceneBuffers::new(&mut OnDevice(gpu.clone()), scene);
-            let image = gpu.storage_zeroed::<f32>("reference image", pixels * 3);
-            let pass = passes::reference::gpu(
-                gpu,
-                [&params, &b.nodes, &b.triangles, &b.materials, &b.lights, &image],
-            )?;
-            for i in 0..rounds {
-                let p = ReferenceParams { round: i, samples: per_round.min(s.spp - i * per_round), ..base };
-                gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
-                let mut encoder = gpu.device.create_command_encoder(&Default::default());
-                pass.encode(gpu, &mut encoder, pixels as u32);
-                gpu.queue.submit([encoder.finish()]);
-                let part: Vec<f32> = gpu.read(&image, pixels * 3)?;
-                add_round(&part, p.samples);
-                let mut encoder = gpu.device.create_command_encoder(&Default::default());
-                encoder.clear_buffer(&image, 0, None);
-                gpu.queue.submit([encoder.finish()]);
-                progress((i + 1) as f64 / rounds as f64);
-            }
-        }
-        None => {
-            let shared_scene = scene.shared();
-            let mut image = vec![0.0f32; pixels * 3];
-            for i in 0..rounds {
-                let p = ReferenceParams { round: i, samples: per_round.min(s.spp - i * per_round), ..base };
-                image.iter_mut().for_each(|v| *v = 0.0);
-                passes::reference::cpu(&p, shared_scene, &mut image);
-                add_round(&image, p.samples);
-                progress((i + 1) as f64 / rounds as f64);
-            }
-        }
+        progress((i + 1) as f64 / rounds as f64);
     }
     let count = rounds as f64;
     let variance: f64 = round_means

@@ -40,7 +40,7 @@ pub fn mutate(
     let groups = params.dims.div_ceil(4);
     if params.mode == MODE_BOOTSTRAP {
         cand_depth[k as usize] =
-            params.candidate_depth(true, bootstrap_depth(params.sample_offset + k, params.max_depth), 0);
+            params.candidate_depth(true, || bootstrap_depth(params.sample_offset + k, params.max_depth), 0);
         let key = bootstrap_key(params.seed, params.sample_offset + k);
         let mut group = 0;
         while group < groups {
@@ -65,13 +65,15 @@ pub fn mutate(
     if params.method == METHOD_REJECT_CHAIN {
         // Proposal j of the reject chain: its own mutation of the current state.
         let large = is_reject_large_step(params.seed, global, params.iteration, j, params.mutation.p_large);
-        let fresh = large_step_depth(
-            params.seed,
-            global,
-            params.iteration,
-            rng::CONTROL_REJECT_DEPTH + j,
-            params.max_depth,
-        );
+        let fresh = || {
+            large_step_depth(
+                params.seed,
+                global,
+                params.iteration,
+                rng::CONTROL_REJECT_DEPTH + j,
+                params.max_depth,
+            )
+        };
         let depth = params.candidate_depth(large, fresh, chains[chain as usize].depth);
         cand_depth[k as usize] = depth;
         while group < groups {
@@ -96,7 +98,8 @@ pub fn mutate(
         return;
     }
     let large = is_large_step(params.seed, global, params.iteration, params.mutation.p_large);
-    let fresh = large_step_depth(params.seed, global, params.iteration, rng::CONTROL_DEPTH, params.max_depth);
+    let fresh =
+        || large_step_depth(params.seed, global, params.iteration, rng::CONTROL_DEPTH, params.max_depth);
     let depth =
         params.candidate_depth(large && descends_from_level_one(j), fresh, chains[chain as usize].depth);
     cand_depth[k as usize] = depth;

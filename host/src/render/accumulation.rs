@@ -49,6 +49,28 @@ impl Accumulation {
         for (a, b) in self.image.iter_mut().zip(&other.image) {
             *a += b;
         }
+        self.merge_tallies(other);
+    }
+
+    /// Adds `other` with each pixel's sums multiplied by its weight (`weights`, one a pixel:
+    /// the path estimator's pixel importance Ĩ), and empties `other` for the next drain
+    /// (keeping its buffer).
+    pub fn merge_weighted(&mut self, other: &mut Accumulation, weights: &[f32]) {
+        assert_eq!(self.image.len(), other.image.len(), "accumulations of one image size");
+        assert_eq!(self.image.len(), weights.len() * 3, "one weight a pixel");
+        for ((a, b), w) in self.image.chunks_mut(3).zip(other.image.chunks_mut(3)).zip(weights) {
+            for c in 0..3 {
+                a[c] += b[c] * *w as f64;
+                b[c] = 0.0;
+            }
+        }
+        self.merge_tallies(other);
+        let image = std::mem::take(&mut other.image);
+        *other = Accumulation { image, ..Default::default() };
+    }
+
+    /// Adds every field of `other` but the image.
+    fn merge_tallies(&mut self, other: &Accumulation) {
         self.weight += other.weight;
         self.accepted += other.accepted;
         self.invalid += other.invalid;
@@ -95,5 +117,20 @@ mod tests {
         assert_eq!(m.image, vec![2.0, 4.0, 6.0]);
         assert_eq!((m.weight, m.accepted, m.invalid, m.candidates), (8.0, 4.0, 2, 20));
         assert_eq!(m.large_steps, Moments { count: 4, sum: 2.0, sum_sq: 1.0 });
+    }
+
+    #[test]
+    fn a_weighted_merge_scales_each_pixel_and_empties_the_source() {
+        let mut fresh = Accumulation {
+            image: vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+            weight: 2.0,
+            candidates: 5,
+            ..Default::default()
+        };
+        let mut acc = Accumulation::new(2);
+        acc.merge_weighted(&mut fresh, &[0.5, 2.0]);
+        assert_eq!(acc.image, vec![0.5, 1.0, 1.5, 8.0, 10.0, 12.0]);
+        assert_eq!((acc.weight, acc.candidates), (2.0, 5));
+        assert_eq!(fresh, Accumulation::new(2));
     }
 }

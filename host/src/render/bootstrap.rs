@@ -95,7 +95,7 @@ pub fn bootstrap(scene: &SceneData, s: &Settings, importance: &[f32]) -> Result<
         }
         chains[p as usize] = ChainState {
             contribution: contributions[g as usize].to_array(),
-            depth: base.candidate_depth(true, bootstrap_depth(g, s.max_depth), 0),
+            depth: base.candidate_depth(true, || bootstrap_depth(g, s.max_depth), 0),
             ..Default::default()
         };
     }

@@ -172,8 +172,9 @@ pub struct Renderer<'a> {
     /// The path tracer's `reference` rounds' parameters (`--method pt`), None for the
     /// Metropolis methods.
     reference: Option<ReferenceParams>,
-    /// The path estimator's pixel importance Ĩ, which the drained sums are multiplied by.
-    importance: Option<Vec<f32>>,
+    /// The path estimator's pixel importance Ĩ, which the drained sums are multiplied by, and
+    /// the accumulation they are drained into first.
+    importance: Option<(Vec<f32>, Accumulation)>,
     bootstrap: Moments,
     acc: Accumulation,
     stats: Stats,
@@ -225,7 +226,7 @@ impl<'a> Renderer<'a> {
                 None => prepare()?,
             };
             backend.start(&boot.chain_u, &boot.chains, &weights)?;
-            importance = (s.estimator == Estimator::Path).then_some(weights);
+            importance = (s.estimator == Estimator::Path).then(|| (weights, Accumulation::new(pixels)));
             stats.chains = base.chains;
             stats.bootstrap_seconds = boot.seconds;
             stats.importance_seconds = importance_seconds;
@@ -276,14 +277,10 @@ impl<'a> Renderer<'a> {
     /// Moves the backend's splats and tallies into the accumulation (the path estimator's
     /// sums times each pixel's Ĩ).
     fn drain(&mut self) -> Result<(), RenderError> {
-        match &self.importance {
-            Some(importance) => {
-                let mut fresh = Accumulation::new(importance.len());
-                self.backend.drain(&mut fresh)?;
-                for (v, i) in fresh.image.chunks_mut(3).zip(importance) {
-                    v.iter_mut().for_each(|c| *c *= *i as f64);
-                }
-                self.acc.merge(&fresh);
+        match &mut self.importance {
+            Some((importance, drained)) => {
+                self.backend.drain(drained)?;
+                self.acc.merge_weighted(drained, importance);
             }
             None => self.backend.drain(&mut self.acc)?,
         }

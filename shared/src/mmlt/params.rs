@@ -142,14 +142,14 @@ impl RenderParams {
     }
 
     /// The depth of a candidate whose proposal is `large` (a large step or a bootstrap sample,
-    /// which takes the freshly drawn `fresh_depth`) or a small step (which keeps its chain's
-    /// `kept`): the path estimator's chains all span every depth, and keep max_depth.
+    /// which draws a fresh depth with `fresh_depth`, only then) or a small step (which keeps its
+    /// chain's `kept`): the path estimator's chains all span every depth, and keep max_depth.
     #[inline]
-    pub fn candidate_depth(&self, large: bool, fresh_depth: u32, kept: u32) -> u32 {
+    pub fn candidate_depth(&self, large: bool, fresh_depth: impl FnOnce() -> u32, kept: u32) -> u32 {
         if self.estimator == ESTIMATOR_PATH {
             self.max_depth
         } else if large {
-            fresh_depth
+            fresh_depth()
         } else {
             kept
         }
