@@ -1,8 +1,11 @@
-//! The `mutate` pass (seed §5.1): one invocation per candidate builds its primary samples in
-//! the SoA candidate buffer. A chain's candidates are adjacent invocations. For a speculative
+//! The `mutate` pass (seed §5.1): one invocation per candidate builds primary samples in the
+//! SoA candidate buffer. A chain's candidates are adjacent invocations. For a speculative
 //! tree, each level's perturbation is one draw per (chain, iteration, level, dimension) shared
-//! by the whole level (`shared::mutation::tree_candidate_sample`); for a reject chain, each of
-//! the l proposals is its own mutation of the current state. Each candidate also gets its path
+//! by the whole level (`shared::mutation::tree_level_steps`), so a chain's invocations divide
+//! its dimensions among them: each draws its dimensions' level steps once and builds those
+//! dimensions of every candidate of the chain (`shared::mutation::tree_candidate_sample`). For
+//! a reject chain, each of the l proposals is its own mutation of the current state, built by
+//! its own invocation. Each candidate also gets its path
 //! depth: a large step proposes a fresh uniform depth with its fresh samples, small steps keep
 //! the chain's (`shared::mutation::large_step_depth`). In bootstrap mode every candidate is a
 //! fresh independent sample of depth `shared::normalisation::bootstrap_depth(index)`. Random numbers
@@ -12,10 +15,12 @@
 //! and every dimension is mutated.
 
 use shared::layout::soa_index;
-use shared::mmlt::{bootstrap_key, ChainState, RenderParams, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP};
+use shared::mmlt::{
+    bootstrap_key, ChainState, RenderParams, ESTIMATOR_PATH, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP,
+};
 use shared::mutation::{
     descends_from_level_one, is_large_step, is_reject_large_step, large_step_depth, reject_chain_samples,
-    tree_candidate_sample, tree_level_uniforms,
+    tree_candidate_sample, tree_level_steps,
 };
 use shared::normalisation::bootstrap_depth;
 use shared::rng::{self, RngKey};
@@ -97,27 +102,48 @@ pub fn mutate(
         }
         return;
     }
+    // Candidate j of a speculative tree. Each level's mutation is shared by the level's
+    // candidates, so the chain's invocations split the work by dimension instead: invocation j
+    // draws the tree's level steps of groups j, j + 2^d − 1, … once and builds those
+    // dimensions of every candidate of its chain (the naive chain, d = 1, builds all of its
+    // one candidate's).
     let large = is_large_step(params.seed, global, params.iteration, params.mutation.p_large);
-    let fresh =
-        || large_step_depth(params.seed, global, params.iteration, rng::CONTROL_DEPTH, params.max_depth);
-    let depth =
-        params.candidate_depth(large && descends_from_level_one(j), fresh, chains[chain as usize].depth);
-    cand_depth[k as usize] = depth;
+    let kept = chains[chain as usize].depth;
+    let fresh = if large && params.estimator != ESTIMATOR_PATH {
+        large_step_depth(params.seed, global, params.iteration, rng::CONTROL_DEPTH, params.max_depth)
+    } else {
+        kept
+    };
+    let depth_of = |i: u32| params.candidate_depth(large && descends_from_level_one(i), || fresh, kept);
+    cand_depth[k as usize] = depth_of(j);
+    group = j;
     while group < groups {
-        if !params.dimensions_used(4 * group, 4, depth) {
-            group += 1;
+        // A large step's fresh depth reaches only the candidates that follow level 1.
+        if !params.dimensions_used(4 * group, 4, kept) && !params.dimensions_used(4 * group, 4, fresh) {
+            group += per_chain;
             continue;
         }
-        let u = tree_level_uniforms(key, j, large, group);
+        let steps = tree_level_steps(key, params.tree_depth, large, group, &params.mutation);
+        let mut current = [0.0f32; 4];
         let mut lane = 0;
         while lane < 4 && 4 * group + lane < params.dims {
-            let dim = 4 * group + lane;
-            let current = chain_u[soa_index(chain, dim, params.chains)];
-            cand_u[soa_index(k, dim, candidates)] =
-                tree_candidate_sample(current, j, large, &u[lane as usize], &params.mutation);
+            current[lane as usize] = chain_u[soa_index(chain, 4 * group + lane, params.chains)];
             lane += 1;
         }
-        group += 1;
+        let mut i = 0;
+        while i < per_chain {
+            if params.dimensions_used(4 * group, 4, depth_of(i)) {
+                let candidate = chain * per_chain + i;
+                lane = 0;
+                while lane < 4 && 4 * group + lane < params.dims {
+                    cand_u[soa_index(candidate, 4 * group + lane, candidates)] =
+                        tree_candidate_sample(current[lane as usize], i, large, &steps, lane as usize);
+                    lane += 1;
+                }
+            }
+            i += 1;
+        }
+        group += per_chain;
     }
 }
 

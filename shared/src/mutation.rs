@@ -16,6 +16,7 @@
 use spirv_std::num_traits::Float;
 
 use crate::rng::{self, RngKey};
+use crate::tree::MAX_TREE_DEPTH;
 
 /// Parameters of the mutation schedule (uploaded to the device as they are).
 #[repr(C)]
@@ -95,34 +96,63 @@ pub fn is_large_step(seed: u32, chain: u32, iteration: u32, p_large: f32) -> boo
     rng::uniform(key) < p_large
 }
 
-/// One dimension of candidate `j` (breadth-first index, see [`crate::tree`]) of a chain whose
-/// current value of that dimension is `current`.
+/// The mutations every level of a chain's speculative tree applies to dimensions `4·group ..
+/// 4·group + 4` at one iteration, drawn once and shared by every candidate of the level (seed
+/// §5.1): `steps[lvl][i]`, for levels `lvl` in 1..=`depth`, is level lvl's signed small-step
+/// offset of dimension 4·group + i, one draw per (chain, iteration, level, dimension) — except
+/// level 1 of a large step, whose slot holds the step's fresh values instead. Slots beyond
+/// `depth` are 0. Computing them once per chain and group, not once per candidate that carries
+/// them, is what keeps a tree's `mutate` as cheap per level as the naive chain's.
+#[inline]
+pub fn tree_level_steps(
+    key: RngKey,
+    depth: u32,
+    large_step: bool,
+    group: u32,
+    params: &MutationParams,
+) -> [[f32; 4]; (MAX_TREE_DEPTH + 1) as usize] {
+    let mut steps = [[0.0f32; 4]; (MAX_TREE_DEPTH + 1) as usize];
+    let mut lvl = 1u32;
+    while lvl <= depth {
+        if lvl == 1 && large_step {
+            steps[1] = rng::uniform4(key, rng::STREAM_LARGE_STEP, group);
+        } else {
+            let u = rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, group);
+            let mut lane = 0;
+            while lane < 4 {
+                steps[lvl as usize][lane] = small_step_offset_log(u[lane], params.s2, params.log_ratio);
+                lane += 1;
+            }
+        }
+        lvl += 1;
+    }
+    steps
+}
+
+/// Lane `lane` (dimension 4·group + lane) of candidate `j` (breadth-first index, see
+/// [`crate::tree`]) of a chain whose current value of that dimension is `current`, given the
+/// tree's [`tree_level_steps`] of the group.
 ///
 /// The candidate is the current state with the mutations of the levels it descends through
 /// applied in order: the mutation of its own level, and of every earlier level whose proposal
-/// was accepted in its history. Each level's mutation is one draw per (chain, iteration, level,
-/// dimension) — `level_uniforms[lvl]` for levels 1..=8, and `level_uniforms[0]` the fresh
-/// value of a large step — shared by every candidate of that level, so the candidates differ
-/// only in which offsets they accumulated. Level 1 is a large step when `large_step`.
+/// was accepted in its history ([`level_applies`]). The candidates of a level share the level's
+/// mutation, so they differ only in which offsets they accumulated. Level 1 of a large step
+/// replaces the value by the step's fresh one.
 #[inline]
 pub fn tree_candidate_sample(
     current: f32,
     j: u32,
     large_step: bool,
-    level_uniforms: &[f32; 9],
-    params: &MutationParams,
+    steps: &[[f32; 4]; (MAX_TREE_DEPTH + 1) as usize],
+    lane: usize,
 ) -> f32 {
     let level = crate::tree::candidate_level(j);
     let mut v = current;
     let mut lvl = 1u32;
     while lvl <= level {
         if level_applies(j, lvl) {
-            if lvl == 1 && large_step {
-                v = level_uniforms[0];
-            } else {
-                let offset = small_step_offset_log(level_uniforms[lvl as usize], params.s2, params.log_ratio);
-                v = small_step(v, offset);
-            }
+            let step = steps[lvl as usize][lane];
+            v = if lvl == 1 && large_step { step } else { small_step(v, step) };
         }
         lvl += 1;
     }
@@ -135,34 +165,6 @@ pub fn tree_candidate_sample(
 pub fn level_applies(j: u32, lvl: u32) -> bool {
     let level = crate::tree::candidate_level(j);
     lvl == level || (crate::tree::candidate_history(j) >> (level - 1 - lvl)) & 1 == 1
-}
-
-/// The uniforms of [`tree_candidate_sample`] for dimensions `4·group .. 4·group + 4` of
-/// candidate `j` of the chain named by `key`: lane i of the result holds dimension 4·group + i.
-/// Only the levels candidate `j` carries ([`level_applies`]) are drawn — the fresh values of a
-/// large step instead of level 1's perturbation when it is one — the others are left 0 (the
-/// random numbers are keyed by level, so skipping one changes no other).
-#[inline]
-pub fn tree_level_uniforms(key: RngKey, j: u32, large_step: bool, group: u32) -> [[f32; 9]; 4] {
-    let level = crate::tree::candidate_level(j);
-    let mut out = [[0.0f32; 9]; 4];
-    let mut lvl = 1u32;
-    while lvl <= level {
-        if level_applies(j, lvl) {
-            let (slot, u) = if lvl == 1 && large_step {
-                (0, rng::uniform4(key, rng::STREAM_LARGE_STEP, group))
-            } else {
-                (lvl as usize, rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, group))
-            };
-            let mut lane = 0;
-            while lane < 4 {
-                out[lane][slot] = u[lane];
-                lane += 1;
-            }
-        }
-        lvl += 1;
-    }
-    out
 }
 
 /// The path depth a large step proposes: uniform over 0..=max_depth, drawn with the control
@@ -228,8 +230,9 @@ mod tests {
     use super::*;
 
     fn sample(root: f32, j: u32, large: bool, key: RngKey, dim: u32) -> f32 {
-        let u = tree_level_uniforms(key, j, large, dim / 4)[(dim % 4) as usize];
-        tree_candidate_sample(root, j, large, &u, &MutationParams::default())
+        let p = MutationParams::default();
+        let steps = tree_level_steps(key, crate::tree::candidate_level(j), large, dim / 4, &p);
+        tree_candidate_sample(root, j, large, &steps, (dim % 4) as usize)
     }
 
     /// Candidates of one level share the level's offset: for a d = 3 tree, the candidate after
@@ -258,29 +261,46 @@ mod tests {
         assert_ne!(sample(root, 0, false, key, 4), sample(root, 0, false, key, 5));
     }
 
-    /// A candidate draws only the levels it carries, each the level's own draw: candidate 5
-    /// (level 3, history 10) carries levels 1 and 3, candidate 4 (history 01) levels 2 and 3;
-    /// with a large step level 1's slot is the fresh value.
+    /// Each level's slot holds that level's own draw (level 1 of a large step its fresh
+    /// values), whatever the tree's depth; candidate 5 (level 3, history 10) carries levels 1
+    /// and 3, candidate 4 (history 01) levels 2 and 3, and each candidate is the current value
+    /// moved by exactly the levels it carries.
     #[test]
-    fn candidates_draw_only_the_levels_they_carry() {
+    fn level_steps_are_each_levels_own_draw() {
+        let p = MutationParams::default();
         let key = RngKey { seed: 5, chain: 9, iteration: 3, dimension: 0 };
         let carried: Vec<Vec<u32>> = (0..7)
             .map(|j| (1..=crate::tree::candidate_level(j)).filter(|&l| level_applies(j, l)).collect())
             .collect();
         assert_eq!(carried, [vec![1], vec![2], vec![1, 2], vec![3], vec![2, 3], vec![1, 3], vec![1, 2, 3]]);
-        for (j, large) in [(5u32, false), (4, false), (5, true), (6, true)] {
-            let u = tree_level_uniforms(key, j, large, 2);
-            for lvl in 1..=3u32 {
-                let drawn = rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, 2);
+        for large in [false, true] {
+            let steps = tree_level_steps(key, 3, large, 2, &p);
+            let deeper = tree_level_steps(key, 5, large, 2, &p);
+            for lvl in 1..=3usize {
+                let drawn = rng::uniform4(key, rng::STREAM_PERTURBATION + lvl as u32, 2);
                 let fresh = rng::uniform4(key, rng::STREAM_LARGE_STEP, 2);
                 for lane in 0..4 {
-                    let expected = match (level_applies(j, lvl), lvl == 1 && large) {
-                        (false, _) => 0.0,
-                        (true, false) => drawn[lane],
-                        (true, true) => fresh[lane],
+                    let expected = if lvl == 1 && large {
+                        fresh[lane]
+                    } else {
+                        small_step_offset_log(drawn[lane], p.s2, p.log_ratio)
                     };
-                    let slot = if lvl == 1 && large { 0 } else { lvl as usize };
-                    assert_eq!(u[lane][slot], expected, "candidate {j} level {lvl} lane {lane}");
+                    assert_eq!(steps[lvl][lane], expected, "level {lvl} lane {lane}");
+                    assert_eq!(deeper[lvl][lane], expected);
+                }
+            }
+            assert!(steps[4..].iter().all(|s| *s == [0.0; 4]) && deeper[5] != [0.0; 4]);
+            for (j, levels) in carried.iter().enumerate() {
+                for lane in 0..4 {
+                    let mut v = 0.3f32;
+                    for &l in levels {
+                        v = if l == 1 && large {
+                            steps[1][lane]
+                        } else {
+                            small_step(v, steps[l as usize][lane])
+                        };
+                    }
+                    assert_eq!(tree_candidate_sample(0.3, j as u32, large, &steps, lane), v);
                 }
             }
         }
