@@ -83,8 +83,31 @@ fn write_splats<const N: usize>(
     }
 }
 
-/// The speculative tree: Eq. 2 leaf probabilities, generalised Eq. 3 weights.
+/// The speculative tree: Eq. 2 leaf probabilities, generalised Eq. 3 weights, over private
+/// arrays sized for the tree's depth (`shared::tree`'s array sizes).
 fn select_tree(
+    p: u32,
+    params: &RenderParams,
+    root: Vec4,
+    contributions: &[Vec4],
+    splats: &mut [Vec4],
+) -> Decision {
+    match params.tree_depth {
+        1 => select_tree_sized::<2, 1, 2>(p, params, root, contributions, splats),
+        2 | 3 => select_tree_sized::<8, 7, 8>(p, params, root, contributions, splats),
+        4 | 5 => select_tree_sized::<32, 31, 32>(p, params, root, contributions, splats),
+        _ => select_tree_sized::<MAX_TREE_STATES, MAX_TREE_CANDIDATES, MAX_TREE_LEAVES>(
+            p,
+            params,
+            root,
+            contributions,
+            splats,
+        ),
+    }
+}
+
+/// [`select_tree`] with arrays of S states, C candidates and L leaves (enough for its depth).
+fn select_tree_sized<const S: usize, const C: usize, const L: usize>(
     p: u32,
     params: &RenderParams,
     root: Vec4,
@@ -94,10 +117,10 @@ fn select_tree(
     let d = params.tree_depth;
     let states = params.states_per_chain();
     let base = p * (states - 1);
-    let c: [f32; MAX_TREE_STATES] = targets(root, contributions, base, states);
-    let mut accept = [0.0f32; MAX_TREE_CANDIDATES];
-    let mut leaf = [0.0f32; MAX_TREE_LEAVES];
-    let mut weight = [0.0f32; MAX_TREE_STATES];
+    let c: [f32; S] = targets(root, contributions, base, states);
+    let mut accept = [0.0f32; C];
+    let mut leaf = [0.0f32; L];
+    let mut weight = [0.0f32; S];
     tree::evaluate_tree(d, &c, &mut accept, &mut leaf, &mut weight);
     write_splats(p, states, root, (contributions, base), &c, &weight, splats);
     Decision {
@@ -108,8 +131,30 @@ fn select_tree(
     }
 }
 
-/// The reject chain: next-state probabilities R_i·a_i, expected-steps weights.
+/// The reject chain: next-state probabilities R_i·a_i, expected-steps weights, over private
+/// arrays sized for its length.
 fn select_reject_chain(
+    p: u32,
+    params: &RenderParams,
+    root: Vec4,
+    contributions: &[Vec4],
+    splats: &mut [Vec4],
+) -> Decision {
+    match params.reject_length {
+        0..=4 => select_reject_chain_sized::<5, 4>(p, params, root, contributions, splats),
+        5..=16 => select_reject_chain_sized::<17, 16>(p, params, root, contributions, splats),
+        _ => select_reject_chain_sized::<MAX_REJECT_CHAIN_STATES, { MAX_REJECT_CHAIN as usize }>(
+            p,
+            params,
+            root,
+            contributions,
+            splats,
+        ),
+    }
+}
+
+/// [`select_reject_chain`] with arrays of S states and C proposals (enough for its length).
+fn select_reject_chain_sized<const S: usize, const C: usize>(
     p: u32,
     params: &RenderParams,
     root: Vec4,
@@ -119,10 +164,10 @@ fn select_reject_chain(
     let l = params.reject_length;
     let states = l + 1;
     let base = p * l;
-    let c: [f32; MAX_REJECT_CHAIN_STATES] = targets(root, contributions, base, states);
-    let mut accept = [0.0f32; MAX_REJECT_CHAIN as usize];
-    let mut next = [0.0f32; MAX_REJECT_CHAIN_STATES];
-    let mut weight = [0.0f32; MAX_REJECT_CHAIN_STATES];
+    let c: [f32; S] = targets(root, contributions, base, states);
+    let mut accept = [0.0f32; C];
+    let mut next = [0.0f32; S];
+    let mut weight = [0.0f32; S];
     let steps = reject_chain::evaluate_reject_chain(l, &c, &mut accept, &mut next, &mut weight);
     write_splats(p, states, root, (contributions, base), &c, &weight, splats);
     Decision {

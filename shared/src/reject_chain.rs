@@ -30,14 +30,16 @@ pub const MAX_REJECT_CHAIN_STATES: usize = MAX_REJECT_CHAIN as usize + 1;
 /// Evaluates a reject chain of `length` proposals. `c[0]` is the current state's target and
 /// `c[i]` proposal i's. Writes `accept[i − 1] = a(y_i | x)`, the probability that each state
 /// is the next state into `next_probability[..=length]`, and each state's weight into
-/// `weight[..=length]`. Returns the expected number of steps consumed (Σ weight).
+/// `weight[..=length]`. Returns the expected number of steps consumed (Σ weight). The arrays
+/// may have any length that holds `length` (`MAX_REJECT_CHAIN_STATES` and
+/// `MAX_REJECT_CHAIN` for any).
 #[inline]
-pub fn evaluate_reject_chain(
+pub fn evaluate_reject_chain<const S: usize, const C: usize>(
     length: u32,
-    c: &[f32; MAX_REJECT_CHAIN_STATES],
-    accept: &mut [f32; MAX_REJECT_CHAIN as usize],
-    next_probability: &mut [f32; MAX_REJECT_CHAIN_STATES],
-    weight: &mut [f32; MAX_REJECT_CHAIN_STATES],
+    c: &[f32; S],
+    accept: &mut [f32; C],
+    next_probability: &mut [f32; S],
+    weight: &mut [f32; S],
 ) -> f32 {
     let mut reach = 1.0f32; // R_i: probability that proposal i is consumed
     let mut steps = 0.0f32;
@@ -62,7 +64,7 @@ pub fn evaluate_reject_chain(
 /// Draws the next state for `xi` ∈ [0, 1) from the probabilities of
 /// [`evaluate_reject_chain`]: 0 = stays at x, i = proposal i.
 #[inline]
-pub fn select_next_state(length: u32, next_probability: &[f32; MAX_REJECT_CHAIN_STATES], xi: f32) -> u32 {
+pub fn select_next_state<const S: usize>(length: u32, next_probability: &[f32; S], xi: f32) -> u32 {
     crate::discrete::sample_discrete(next_probability, length + 1, xi)
 }
 

@@ -21,6 +21,11 @@
 //! The seed's remark that for deeper trees "all (1 − a) become (2 − a)" does not hold beyond
 //! d = 2 (its weights would not sum to d); the forward pass here is checked against a
 //! brute-force enumeration of the chain instead (see the tests).
+//!
+//! **Array sizes.** The functions take arrays of any length that holds a depth-d tree (states
+//! and leaves 2^d, candidates 2^d − 1), so a kernel sizes its private arrays for the depth it
+//! runs: [`MAX_TREE_STATES`] and the like hold any depth, but zeroing and indexing them per
+//! chain costs a naive chain more than its whole selection.
 
 use crate::acceptance::acceptance;
 
@@ -81,7 +86,7 @@ pub fn state_after(steps: u32, history: u32) -> u32 {
 /// where the source is the state after the history that candidate k follows. `c[s]` is the
 /// scalar target of distinct state s (`c[0]` the current state's).
 #[inline]
-pub fn tree_acceptances(depth: u32, c: &[f32; MAX_TREE_STATES], accept: &mut [f32; MAX_TREE_CANDIDATES]) {
+pub fn tree_acceptances<const S: usize, const C: usize>(depth: u32, c: &[f32; S], accept: &mut [f32; C]) {
     let n = candidate_count(depth);
     let mut k = 0u32;
     while k < n {
@@ -96,11 +101,11 @@ pub fn tree_acceptances(depth: u32, c: &[f32; MAX_TREE_STATES], accept: &mut [f3
 /// `leaf_probability[..2^d]` and the weight of every distinct state (Eq. 3 generalised) into
 /// `weight[..2^d]`, by one forward pass over the levels.
 #[inline]
-pub fn tree_probabilities_and_weights(
+pub fn tree_probabilities_and_weights<const S: usize, const C: usize, const L: usize>(
     depth: u32,
-    accept: &[f32; MAX_TREE_CANDIDATES],
-    leaf_probability: &mut [f32; MAX_TREE_LEAVES],
-    weight: &mut [f32; MAX_TREE_STATES],
+    accept: &[f32; C],
+    leaf_probability: &mut [f32; L],
+    weight: &mut [f32; S],
 ) {
     let states = 1u32 << depth;
     let mut s = 0u32;
@@ -135,12 +140,12 @@ pub fn tree_probabilities_and_weights(
 
 /// The whole tree at once: edge acceptances from the targets, leaf probabilities and weights.
 #[inline]
-pub fn evaluate_tree(
+pub fn evaluate_tree<const S: usize, const C: usize, const L: usize>(
     depth: u32,
-    c: &[f32; MAX_TREE_STATES],
-    accept: &mut [f32; MAX_TREE_CANDIDATES],
-    leaf_probability: &mut [f32; MAX_TREE_LEAVES],
-    weight: &mut [f32; MAX_TREE_STATES],
+    c: &[f32; S],
+    accept: &mut [f32; C],
+    leaf_probability: &mut [f32; L],
+    weight: &mut [f32; S],
 ) {
     tree_acceptances(depth, c, accept);
     tree_probabilities_and_weights(depth, accept, leaf_probability, weight);
@@ -149,7 +154,7 @@ pub fn evaluate_tree(
 /// Draws the leaf for `xi` ∈ [0, 1) from the leaf probabilities and returns the distinct state
 /// the chain moves to (0 = stays at the root, 1 + k = candidate k).
 #[inline]
-pub fn select_next_state(depth: u32, leaf_probability: &[f32; MAX_TREE_LEAVES], xi: f32) -> u32 {
+pub fn select_next_state<const L: usize>(depth: u32, leaf_probability: &[f32; L], xi: f32) -> u32 {
     let leaf = crate::discrete::sample_discrete(leaf_probability, 1u32 << depth, xi);
     state_after(depth, leaf)
 }
@@ -157,7 +162,7 @@ pub fn select_next_state(depth: u32, leaf_probability: &[f32; MAX_TREE_LEAVES], 
 /// Expected number of accepted steps among the tree's d: Σ over leaves of the leaf's
 /// probability times its acceptances (leaf h, a history of d decisions, has popcount(h)).
 #[inline]
-pub fn expected_acceptances(depth: u32, leaf_probability: &[f32; MAX_TREE_LEAVES]) -> f32 {
+pub fn expected_acceptances<const L: usize>(depth: u32, leaf_probability: &[f32; L]) -> f32 {
     let mut accepted = 0.0f32;
     let mut leaf = 0u32;
     while leaf < 1u32 << depth {
