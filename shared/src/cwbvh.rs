@@ -46,19 +46,6 @@ pub struct WideNode {
 }
 
 impl WideNode {
-    /// Byte `child` of a two-word array.
-    #[inline]
-    fn byte(words: [u32; 2], child: u32) -> u32 {
-        (words[(child >> 2) as usize] >> ((child & 3) * 8)) & 0xff
-    }
-
-    /// The grid coordinate of a child's box plane: `plane` 0–5 is min x, max x, … max z.
-    #[inline]
-    fn plane(&self, plane: usize, child: u32) -> f32 {
-        let word = self.bounds[plane * 2 + (child >> 2) as usize];
-        ((word >> ((child & 3) * 8)) & 0xff) as f32
-    }
-
     /// The grid's spacing on `axis`.
     #[inline]
     fn spacing(&self, axis: u32) -> f32 {
@@ -74,44 +61,84 @@ impl WideNode {
     /// The children whose boxes the ray (origin `o`, reciprocal direction `inv`) enters before
     /// `tmax`, as a traversal mask: hit inner children as bits 24–31 at their front-to-back
     /// rank for the ray's octant (`octant_inv`, see [`octant_inv`]), hit leaves' triangles as
-    /// bits 0–23 at their offsets from `triangle_base`.
+    /// bits 0–23 at their offsets from `triangle_base`. Every word is read at a constant index
+    /// (children 0–3, then 4–7, one byte each), so a device keeps the node in registers
+    /// instead of indexing a private array per child.
     #[inline]
     pub fn intersect(&self, o: Vec3, inv: Vec3, octant_inv: u32, tmax: f32) -> u32 {
-        let scaled_inv = Vec3::new(self.spacing(0), self.spacing(1), self.spacing(2)) * inv;
-        let shifted = (Vec3::from_array(self.origin) - o) * inv;
-        // A negative direction component meets a box's max plane first.
-        let (near_x, far_x) = if inv.x < 0.0 { (1, 0) } else { (0, 1) };
-        let (near_y, far_y) = if inv.y < 0.0 { (3, 2) } else { (2, 3) };
-        let (near_z, far_z) = if inv.z < 0.0 { (5, 4) } else { (4, 5) };
+        let ray = NodeRay {
+            scaled_inv: Vec3::new(self.spacing(0), self.spacing(1), self.spacing(2)) * inv,
+            shifted: (Vec3::from_array(self.origin) - o) * inv,
+            negative_x: inv.x < 0.0,
+            negative_y: inv.y < 0.0,
+            negative_z: inv.z < 0.0,
+            octant_inv,
+            tmax,
+        };
+        let b = &self.bounds;
+        ray.intersect_quad(self.meta[0], [b[0], b[2], b[4], b[6], b[8], b[10]])
+            | ray.intersect_quad(self.meta[1], [b[1], b[3], b[5], b[7], b[9], b[11]])
+    }
+}
+
+/// A ray as one node's box tests see it: on the node's grid, with its direction's signs.
+struct NodeRay {
+    /// The grid's spacing over the direction, per axis.
+    scaled_inv: Vec3,
+    /// (grid origin − ray origin) over the direction, per axis.
+    shifted: Vec3,
+    /// Whether the direction's x component is negative (it meets a box's max x plane first).
+    negative_x: bool,
+    /// Whether its y component is negative.
+    negative_y: bool,
+    /// Whether its z component is negative.
+    negative_z: bool,
+    octant_inv: u32,
+    tmax: f32,
+}
+
+impl NodeRay {
+    /// The traversal-mask bits of four children whose meta bytes are `meta` and whose box
+    /// planes are the words `planes` (min x, max x, min y, max y, min z, max z; one byte a
+    /// child).
+    #[inline]
+    fn intersect_quad(&self, meta: u32, planes: [u32; 6]) -> u32 {
+        let (near_x, far_x) = if self.negative_x { (planes[1], planes[0]) } else { (planes[0], planes[1]) };
+        let (near_y, far_y) = if self.negative_y { (planes[3], planes[2]) } else { (planes[2], planes[3]) };
+        let (near_z, far_z) = if self.negative_z { (planes[5], planes[4]) } else { (planes[4], planes[5]) };
         let mut hits = 0u32;
-        let mut child = 0u32;
-        while child < 8 {
-            let meta = Self::byte(self.meta, child);
+        let mut shift = 0u32;
+        while shift < 32 {
+            let meta = (meta >> shift) & 0xff;
             if meta != 0 {
-                let near = Vec3::new(
-                    self.plane(near_x, child),
-                    self.plane(near_y, child),
-                    self.plane(near_z, child),
-                ) * scaled_inv
-                    + shifted;
+                let near =
+                    Vec3::new(grid_byte(near_x, shift), grid_byte(near_y, shift), grid_byte(near_z, shift))
+                        * self.scaled_inv
+                        + self.shifted;
                 let far =
-                    Vec3::new(self.plane(far_x, child), self.plane(far_y, child), self.plane(far_z, child))
-                        * scaled_inv
-                        + shifted;
+                    Vec3::new(grid_byte(far_x, shift), grid_byte(far_y, shift), grid_byte(far_z, shift))
+                        * self.scaled_inv
+                        + self.shifted;
                 let t_near = near.max_element().max(0.0);
-                let t_far = far.min_element().min(tmax);
+                let t_far = far.min_element().min(self.tmax);
                 if t_near <= t_far {
                     // Inner nodes have both bits 3 and 4 of their byte set (24..32), leaves never.
                     let inner = (meta & (meta << 1) & 0x10) != 0;
                     let bits = meta >> 5;
-                    let index = if inner { (meta ^ octant_inv) & 0x1f } else { meta & 0x1f };
+                    let index = if inner { (meta ^ self.octant_inv) & 0x1f } else { meta & 0x1f };
                     hits |= bits << index;
                 }
             }
-            child += 1;
+            shift += 8;
         }
         hits
     }
+}
+
+/// The byte of `word` at bit `shift`, as a grid coordinate.
+#[inline]
+fn grid_byte(word: u32, shift: u32) -> f32 {
+    ((word >> shift) & 0xff) as f32
 }
 
 /// The ray's octant, inverted, as the three bits that reorder a node's child slots front to
