@@ -3,7 +3,7 @@
 //! tree, each level's perturbation is one draw per (chain, iteration, level, dimension) shared
 //! by the whole level (`shared::mutation::tree_level_steps`), so a chain's invocations divide
 //! its dimensions among them: each draws its dimensions' level steps once and builds those
-//! dimensions of every candidate of the chain (`shared::mutation::tree_candidate_sample`). For
+//! dimensions of every candidate of the chain (`shared::mutation::tree_candidate_samples`). For
 //! a reject chain, each of the l proposals is its own mutation of the current state, built by
 //! its own invocation. Each candidate also gets its path
 //! depth: a large step proposes a fresh uniform depth with its fresh samples, small steps keep
@@ -14,17 +14,17 @@
 //! The path estimator's chains (`shared::pssmlt`) span every depth: their depth stays max_depth
 //! and every dimension is mutated.
 
-use shared::layout::soa_index;
+use shared::layout::{load_group, store_group};
 use shared::mmlt::{
     bootstrap_key, ChainState, RenderParams, ESTIMATOR_PATH, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP,
 };
 use shared::mutation::{
-    descends_from_level_one, is_large_step, is_reject_large_step, large_step_depth, reject_chain_samples,
-    tree_candidate_sample, tree_level_steps,
+    apply_tree_level_step, descends_from_level_one, is_large_step, is_reject_large_step, large_step_depth,
+    reject_chain_samples, tree_candidate_samples, tree_level_step, tree_level_steps,
 };
 use shared::normalisation::bootstrap_depth;
 use shared::rng::{self, RngKey};
-use spirv_std::glam::UVec3;
+use spirv_std::glam::{UVec3, Vec4};
 use spirv_std::spirv;
 
 /// The kernel body for candidate `k`. Dimensions are handled four at a time, one random hash
@@ -42,19 +42,15 @@ pub fn mutate(
         return;
     }
     let candidates = params.candidates;
-    let groups = params.dims.div_ceil(4);
+    let (dims, groups) = (params.dims, params.dims.div_ceil(4));
     if params.mode == MODE_BOOTSTRAP {
         cand_depth[k as usize] =
             params.candidate_depth(true, || bootstrap_depth(params.sample_offset + k, params.max_depth), 0);
         let key = bootstrap_key(params.seed, params.sample_offset + k);
         let mut group = 0;
         while group < groups {
-            let u = rng::uniform4(key, rng::STREAM_LARGE_STEP, group);
-            let mut lane = 0;
-            while lane < 4 && 4 * group + lane < params.dims {
-                cand_u[soa_index(k, 4 * group + lane, candidates)] = u[lane as usize];
-                lane += 1;
-            }
+            let u = Vec4::from_array(rng::uniform4(key, rng::STREAM_LARGE_STEP, group));
+            store_group(cand_u, k, group, candidates, dims, u);
             group += 1;
         }
         return;
@@ -82,21 +78,10 @@ pub fn mutate(
         let depth = params.candidate_depth(large, fresh, chains[chain as usize].depth);
         cand_depth[k as usize] = depth;
         while group < groups {
-            if !params.dimensions_used(4 * group, 4, depth) {
-                group += 1;
-                continue;
-            }
-            let mut current = [0.0f32; 4];
-            let mut lane = 0;
-            while lane < 4 && 4 * group + lane < params.dims {
-                current[lane as usize] = chain_u[soa_index(chain, 4 * group + lane, params.chains)];
-                lane += 1;
-            }
-            let out = reject_chain_samples(current, j, large, key, group, &params.mutation);
-            lane = 0;
-            while lane < 4 && 4 * group + lane < params.dims {
-                cand_u[soa_index(k, 4 * group + lane, candidates)] = out[lane as usize];
-                lane += 1;
+            if params.dimensions_used(4 * group, 4, depth) {
+                let current = load_group(chain_u, chain, group, params.chains, dims);
+                let out = reject_chain_samples(current, j, large, key, group, &params.mutation);
+                store_group(cand_u, k, group, candidates, dims, out);
             }
             group += 1;
         }
@@ -123,23 +108,29 @@ pub fn mutate(
             group += per_chain;
             continue;
         }
-        let steps = tree_level_steps(key, params.tree_depth, large, group, &params.mutation);
-        let mut current = [0.0f32; 4];
-        let mut lane = 0;
-        while lane < 4 && 4 * group + lane < params.dims {
-            current[lane as usize] = chain_u[soa_index(chain, 4 * group + lane, params.chains)];
-            lane += 1;
+        let current = load_group(chain_u, chain, group, params.chains, dims);
+        if per_chain == 1 {
+            // The naive chain: level 1 alone, without the tree's array of levels.
+            if params.dimensions_used(4 * group, 4, depth_of(0)) {
+                let step = tree_level_step(key, 1, large, group, &params.mutation);
+                store_group(
+                    cand_u,
+                    k,
+                    group,
+                    candidates,
+                    dims,
+                    apply_tree_level_step(current, 1, large, step),
+                );
+            }
+            group += 1;
+            continue;
         }
+        let steps = tree_level_steps(key, params.tree_depth, large, group, &params.mutation);
         let mut i = 0;
         while i < per_chain {
             if params.dimensions_used(4 * group, 4, depth_of(i)) {
-                let candidate = chain * per_chain + i;
-                lane = 0;
-                while lane < 4 && 4 * group + lane < params.dims {
-                    cand_u[soa_index(candidate, 4 * group + lane, candidates)] =
-                        tree_candidate_sample(current[lane as usize], i, large, &steps, lane as usize);
-                    lane += 1;
-                }
+                let samples = tree_candidate_samples(current, i, large, &steps);
+                store_group(cand_u, chain * per_chain + i, group, candidates, dims, samples);
             }
             i += 1;
         }

@@ -18,6 +18,47 @@ pub fn soa_index(chain: u32, variable: u32, chains: u32) -> usize {
     chain as usize + variable as usize * chains as usize
 }
 
+/// Variables `4·group .. 4·group + 4` of `unit` among `units` (SoA, [`soa_index`]) as one
+/// vector, lane i variable 4·group + i; lanes at or beyond `variables` read 0. Each lane is
+/// its own load at a constant lane, so a device keeps the four in registers.
+#[inline]
+pub fn load_group(buffer: &[f32], unit: u32, group: u32, units: u32, variables: u32) -> Vec4 {
+    let first = 4 * group;
+    let mut v = Vec4::ZERO;
+    if first < variables {
+        v.x = buffer[soa_index(unit, first, units)];
+    }
+    if first + 1 < variables {
+        v.y = buffer[soa_index(unit, first + 1, units)];
+    }
+    if first + 2 < variables {
+        v.z = buffer[soa_index(unit, first + 2, units)];
+    }
+    if first + 3 < variables {
+        v.w = buffer[soa_index(unit, first + 3, units)];
+    }
+    v
+}
+
+/// Stores `value` as variables `4·group .. 4·group + 4` of `unit` (the inverse of
+/// [`load_group`]); lanes at or beyond `variables` are not stored.
+#[inline]
+pub fn store_group(buffer: &mut [f32], unit: u32, group: u32, units: u32, variables: u32, value: Vec4) {
+    let first = 4 * group;
+    if first < variables {
+        buffer[soa_index(unit, first, units)] = value.x;
+    }
+    if first + 1 < variables {
+        buffer[soa_index(unit, first + 1, units)] = value.y;
+    }
+    if first + 2 < variables {
+        buffer[soa_index(unit, first + 2, units)] = value.z;
+    }
+    if first + 3 < variables {
+        buffer[soa_index(unit, first + 3, units)] = value.w;
+    }
+}
+
 /// Packs `rgb · weight` and the pixel index (as the bits of the fourth float) into one Vec4.
 #[inline]
 pub fn pack_contribution(rgb: Vec3, weight: f32, pixel: u32) -> Vec4 {
@@ -59,6 +100,23 @@ mod tests {
         // Neighbouring chains, same variable: neighbouring words.
         assert_eq!(soa_index(4, 5, 1000) - soa_index(3, 5, 1000), 1);
         assert_eq!(soa_index(u32::MAX, 1, u32::MAX), 2 * u32::MAX as usize);
+    }
+
+    /// A group of four variables goes in and out lane by lane; the last group of an odd
+    /// count leaves the words beyond it alone and reads them as 0.
+    #[test]
+    fn groups_store_and_load_four_variables() {
+        let (units, variables) = (3u32, 6u32);
+        let mut buffer = vec![-1.0f32; (units * 8) as usize];
+        store_group(&mut buffer, 2, 0, units, variables, Vec4::new(1.0, 2.0, 3.0, 4.0));
+        store_group(&mut buffer, 2, 1, units, variables, Vec4::new(5.0, 6.0, 7.0, 8.0));
+        for (i, v) in [1.0, 2.0, 3.0, 4.0, 5.0, 6.0].into_iter().enumerate() {
+            assert_eq!(buffer[soa_index(2, i as u32, units)], v);
+        }
+        assert_eq!(buffer[soa_index(2, 6, units)], -1.0);
+        assert_eq!(buffer[soa_index(1, 0, units)], -1.0);
+        assert_eq!(load_group(&buffer, 2, 1, units, variables), Vec4::new(5.0, 6.0, 0.0, 0.0));
+        assert_eq!(load_group(&buffer, 2, 0, units, variables), Vec4::new(1.0, 2.0, 3.0, 4.0));
     }
 
     /// Every pixel index survives the trip through a float's bits, the ones that are

@@ -15,6 +15,8 @@
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
+use glam::Vec4;
+
 use crate::rng::{self, RngKey};
 use crate::tree::MAX_TREE_DEPTH;
 
@@ -96,13 +98,52 @@ pub fn is_large_step(seed: u32, chain: u32, iteration: u32, p_large: f32) -> boo
     rng::uniform(key) < p_large
 }
 
-/// The mutations every level of a chain's speculative tree applies to dimensions `4·group ..
-/// 4·group + 4` at one iteration, drawn once and shared by every candidate of the level (seed
-/// §5.1): `steps[lvl][i]`, for levels `lvl` in 1..=`depth`, is level lvl's signed small-step
-/// offset of dimension 4·group + i, one draw per (chain, iteration, level, dimension) — except
-/// level 1 of a large step, whose slot holds the step's fresh values instead. Slots beyond
-/// `depth` are 0. Computing them once per chain and group, not once per candidate that carries
-/// them, is what keeps a tree's `mutate` as cheap per level as the naive chain's.
+/// [`small_step_offset_log`] of four uniforms (four dimensions).
+#[inline]
+pub fn small_step_offsets(u: [f32; 4], params: &MutationParams) -> Vec4 {
+    let offset = |x: f32| small_step_offset_log(x, params.s2, params.log_ratio);
+    Vec4::new(offset(u[0]), offset(u[1]), offset(u[2]), offset(u[3]))
+}
+
+/// [`small_step`] of four dimensions.
+#[inline]
+pub fn small_steps(u: Vec4, offset: Vec4) -> Vec4 {
+    Vec4::new(
+        small_step(u.x, offset.x),
+        small_step(u.y, offset.y),
+        small_step(u.z, offset.z),
+        small_step(u.w, offset.w),
+    )
+}
+
+/// Level `lvl`'s mutation of dimensions `4·group .. 4·group + 4` of the chain named by `key`
+/// (lane i: dimension 4·group + i), one draw per (chain, iteration, level, dimension) shared by
+/// every candidate of the level (seed §5.1): the signed small-step offsets — or, for level 1
+/// of a large step, the step's fresh values.
+#[inline]
+pub fn tree_level_step(key: RngKey, lvl: u32, large_step: bool, group: u32, params: &MutationParams) -> Vec4 {
+    if lvl == 1 && large_step {
+        Vec4::from_array(rng::uniform4(key, rng::STREAM_LARGE_STEP, group))
+    } else {
+        small_step_offsets(rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, group), params)
+    }
+}
+
+/// Applies level `lvl`'s [`tree_level_step`] `step` to the values `v`: a small step, or the
+/// fresh values of level 1 of a large step.
+#[inline]
+pub fn apply_tree_level_step(v: Vec4, lvl: u32, large_step: bool, step: Vec4) -> Vec4 {
+    if lvl == 1 && large_step {
+        step
+    } else {
+        small_steps(v, step)
+    }
+}
+
+/// Every level's [`tree_level_step`] of a tree of `depth` levels: `steps[lvl]` for levels
+/// 1..=`depth`, slots beyond `depth` 0. Drawn once per chain and group of dimensions, not once
+/// per candidate that carries them, which keeps a tree's `mutate` as cheap per level as the
+/// naive chain's.
 #[inline]
 pub fn tree_level_steps(
     key: RngKey,
@@ -110,49 +151,38 @@ pub fn tree_level_steps(
     large_step: bool,
     group: u32,
     params: &MutationParams,
-) -> [[f32; 4]; (MAX_TREE_DEPTH + 1) as usize] {
-    let mut steps = [[0.0f32; 4]; (MAX_TREE_DEPTH + 1) as usize];
+) -> [Vec4; (MAX_TREE_DEPTH + 1) as usize] {
+    let mut steps = [Vec4::ZERO; (MAX_TREE_DEPTH + 1) as usize];
     let mut lvl = 1u32;
     while lvl <= depth {
-        if lvl == 1 && large_step {
-            steps[1] = rng::uniform4(key, rng::STREAM_LARGE_STEP, group);
-        } else {
-            let u = rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, group);
-            let mut lane = 0;
-            while lane < 4 {
-                steps[lvl as usize][lane] = small_step_offset_log(u[lane], params.s2, params.log_ratio);
-                lane += 1;
-            }
-        }
+        steps[lvl as usize] = tree_level_step(key, lvl, large_step, group, params);
         lvl += 1;
     }
     steps
 }
 
-/// Lane `lane` (dimension 4·group + lane) of candidate `j` (breadth-first index, see
-/// [`crate::tree`]) of a chain whose current value of that dimension is `current`, given the
-/// tree's [`tree_level_steps`] of the group.
+/// Dimensions `4·group .. 4·group + 4` of candidate `j` (breadth-first index, see
+/// [`crate::tree`]) of a chain whose current values of them are `current`, given the tree's
+/// [`tree_level_steps`] of the group.
 ///
 /// The candidate is the current state with the mutations of the levels it descends through
 /// applied in order: the mutation of its own level, and of every earlier level whose proposal
 /// was accepted in its history ([`level_applies`]). The candidates of a level share the level's
 /// mutation, so they differ only in which offsets they accumulated. Level 1 of a large step
-/// replaces the value by the step's fresh one.
+/// replaces the values by the step's fresh ones.
 #[inline]
-pub fn tree_candidate_sample(
-    current: f32,
+pub fn tree_candidate_samples(
+    current: Vec4,
     j: u32,
     large_step: bool,
-    steps: &[[f32; 4]; (MAX_TREE_DEPTH + 1) as usize],
-    lane: usize,
-) -> f32 {
+    steps: &[Vec4; (MAX_TREE_DEPTH + 1) as usize],
+) -> Vec4 {
     let level = crate::tree::candidate_level(j);
     let mut v = current;
     let mut lvl = 1u32;
     while lvl <= level {
         if level_applies(j, lvl) {
-            let step = steps[lvl as usize][lane];
-            v = if lvl == 1 && large_step { step } else { small_step(v, step) };
+            v = apply_tree_level_step(v, lvl, large_step, steps[lvl as usize]);
         }
         lvl += 1;
     }
@@ -205,24 +235,20 @@ pub fn is_reject_large_step(seed: u32, chain: u32, iteration: u32, i: u32, p_lar
 /// step by the proposal's own offset.
 #[inline]
 pub fn reject_chain_samples(
-    current: [f32; 4],
+    current: Vec4,
     i: u32,
     large_step: bool,
     key: RngKey,
     group: u32,
     params: &MutationParams,
-) -> [f32; 4] {
+) -> Vec4 {
     if large_step {
-        return rng::uniform4(key, rng::STREAM_REJECT_LARGE_STEP + i, group);
+        return Vec4::from_array(rng::uniform4(key, rng::STREAM_REJECT_LARGE_STEP + i, group));
     }
-    let u = rng::uniform4(key, rng::STREAM_REJECT_PERTURBATION + i, group);
-    let mut out = [0.0f32; 4];
-    let mut lane = 0;
-    while lane < 4 {
-        out[lane] = small_step(current[lane], small_step_offset_log(u[lane], params.s2, params.log_ratio));
-        lane += 1;
-    }
-    out
+    small_steps(
+        current,
+        small_step_offsets(rng::uniform4(key, rng::STREAM_REJECT_PERTURBATION + i, group), params),
+    )
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]
@@ -232,7 +258,7 @@ mod tests {
     fn sample(root: f32, j: u32, large: bool, key: RngKey, dim: u32) -> f32 {
         let p = MutationParams::default();
         let steps = tree_level_steps(key, crate::tree::candidate_level(j), large, dim / 4, &p);
-        tree_candidate_sample(root, j, large, &steps, (dim % 4) as usize)
+        tree_candidate_samples(Vec4::splat(root), j, large, &steps)[(dim % 4) as usize]
     }
 
     /// Candidates of one level share the level's offset: for a d = 3 tree, the candidate after
@@ -289,7 +315,7 @@ mod tests {
                     assert_eq!(deeper[lvl][lane], expected);
                 }
             }
-            assert!(steps[4..].iter().all(|s| *s == [0.0; 4]) && deeper[5] != [0.0; 4]);
+            assert!(steps[4..].iter().all(|s| *s == Vec4::ZERO) && deeper[5] != Vec4::ZERO);
             for (j, levels) in carried.iter().enumerate() {
                 for lane in 0..4 {
                     let mut v = 0.3f32;
@@ -300,7 +326,7 @@ mod tests {
                             small_step(v, steps[l as usize][lane])
                         };
                     }
-                    assert_eq!(tree_candidate_sample(0.3, j as u32, large, &steps, lane), v);
+                    assert_eq!(tree_candidate_samples(Vec4::splat(0.3), j as u32, large, &steps)[lane], v);
                 }
             }
         }
