@@ -59,28 +59,26 @@ pub fn dimension(stream: u32, index: u32) -> u32 {
     (stream << 24) | (index & 0x00ff_ffff)
 }
 
-/// The `pcg4d` hash: four 32-bit words in, four well-mixed 32-bit words out.
+/// The `pcg4d` hash: four 32-bit words in, four well-mixed 32-bit words out. Written on four
+/// scalars, not a loop over an array, so that a device keeps them in registers (lavapipe keeps
+/// a private array with a computed index in memory).
 #[inline]
-pub fn pcg4d(mut v: [u32; 4]) -> [u32; 4] {
-    let mut i = 0;
-    while i < 4 {
-        v[i] = v[i].wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-        i += 1;
-    }
-    v[0] = v[0].wrapping_add(v[1].wrapping_mul(v[3]));
-    v[1] = v[1].wrapping_add(v[2].wrapping_mul(v[0]));
-    v[2] = v[2].wrapping_add(v[0].wrapping_mul(v[1]));
-    v[3] = v[3].wrapping_add(v[1].wrapping_mul(v[2]));
-    i = 0;
-    while i < 4 {
-        v[i] ^= v[i] >> 16;
-        i += 1;
-    }
-    v[0] = v[0].wrapping_add(v[1].wrapping_mul(v[3]));
-    v[1] = v[1].wrapping_add(v[2].wrapping_mul(v[0]));
-    v[2] = v[2].wrapping_add(v[0].wrapping_mul(v[1]));
-    v[3] = v[3].wrapping_add(v[1].wrapping_mul(v[2]));
-    v
+pub fn pcg4d(v: [u32; 4]) -> [u32; 4] {
+    let lcg = |x: u32| x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+    let (mut a, mut b, mut c, mut d) = (lcg(v[0]), lcg(v[1]), lcg(v[2]), lcg(v[3]));
+    a = a.wrapping_add(b.wrapping_mul(d));
+    b = b.wrapping_add(c.wrapping_mul(a));
+    c = c.wrapping_add(a.wrapping_mul(b));
+    d = d.wrapping_add(b.wrapping_mul(c));
+    a ^= a >> 16;
+    b ^= b >> 16;
+    c ^= c >> 16;
+    d ^= d >> 16;
+    a = a.wrapping_add(b.wrapping_mul(d));
+    b = b.wrapping_add(c.wrapping_mul(a));
+    c = c.wrapping_add(a.wrapping_mul(b));
+    d = d.wrapping_add(b.wrapping_mul(c));
+    [a, b, c, d]
 }
 
 /// Four random 32-bit words for `key`.
@@ -138,6 +136,33 @@ mod tests {
             // Avalanche: about half of the 128 output bits change.
             let flipped: u32 = (0..4).map(|i| (base[i] ^ other[i]).count_ones()).sum();
             assert!((32..=96).contains(&flipped), "word {w}: {flipped} of 128 bits changed");
+        }
+    }
+
+    /// The scalar form is Jarzynski and Olano's `pcg4d` as their paper writes it, over a
+    /// vector (here an array and loops), word for word.
+    #[test]
+    fn pcg4d_is_the_papers_vector_form() {
+        fn vector_form(mut v: [u32; 4]) -> [u32; 4] {
+            for x in &mut v {
+                *x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            }
+            let mix = |v: &mut [u32; 4]| {
+                v[0] = v[0].wrapping_add(v[1].wrapping_mul(v[3]));
+                v[1] = v[1].wrapping_add(v[2].wrapping_mul(v[0]));
+                v[2] = v[2].wrapping_add(v[0].wrapping_mul(v[1]));
+                v[3] = v[3].wrapping_add(v[1].wrapping_mul(v[2]));
+            };
+            mix(&mut v);
+            for x in &mut v {
+                *x ^= *x >> 16;
+            }
+            mix(&mut v);
+            v
+        }
+        for i in 0..10_000u32 {
+            let words = [i, i.wrapping_mul(2_654_435_761), 7 ^ (i << 3), u32::MAX - i];
+            assert_eq!(pcg4d(words), vector_form(words), "{words:?}");
         }
     }
 
