@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Candidates/s of two smlt binaries on the same renders, interleaved (A, B, A, B, … for every
+# Candidates/s (paths/s for pt) of two smlt binaries on the same renders, interleaved (A, B, A, B, … for every
 # case, so that a machine's drift falls on both), as CSV on stdout: case,binary,repeat,M/s.
 # A measurement, not a test: quote the ratio B/A measured in one run, and the machine (lscpu).
 #
@@ -24,7 +24,7 @@ for case in "$@"; do
             bin=$a
             [ "$which" = B ] && bin=$b
             rate=$("$bin" render "${args[@]}" --out "$out/ab.exr" 2>/dev/null |
-                awk '/^mutations\/s/ {print $2}')
+                awk '/^(mutations|paths)\/s/ {print $2}')
             echo "$label,$which,$repeat,${rate:-failed}"
         done
     done

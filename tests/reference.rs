@@ -40,6 +40,24 @@ fn the_reference_furnace_is_analytic() {
     }
 }
 
+/// Twelve bounces of a ρ = 0.8 furnace: bounces 5 and on play Russian roulette (the throughput
+/// has fallen to 0.8^5 ≈ 0.33 at the fifth, so two paths in three end there, and a survivor's
+/// is back at 1, so one in five ends at each bounce after), and the mean still matches the
+/// analytic radiance (a roulette that forgot its 1/q would lose about a fifth of it).
+#[test]
+fn the_reference_furnace_is_analytic_through_russian_roulette() {
+    let (rho, k) = (0.8, 12);
+    let scene = furnace(1.0, rho);
+    let rgb = render_reference(&scene, &settings("furnace", 16, k, 512, 3), None, 16, |_| {}).unwrap().rgb;
+    let expected = furnace_radiance(1.0, rho, k);
+    let mean = rgb.iter().map(|v| *v as f64).sum::<f64>() / rgb.len() as f64;
+    println!("reference furnace, {k} bounces: mean {mean:.5}, expected {expected:.5}");
+    assert!((mean / expected - 1.0).abs() < 0.003, "{mean} vs {expected}");
+    for b in block_means(&rgb, 16) {
+        assert!((b / expected - 1.0).abs() < 0.015, "block {b} vs {expected}");
+    }
+}
+
 #[test]
 fn the_device_reference_equals_the_cpu_reference() {
     let Some(gpu) = common::gpu_or_skip("the_device_reference_equals_the_cpu_reference") else {

@@ -4,7 +4,9 @@
 //! the MMLT path code, so agreement between the two is evidence for both.
 //!
 //! Path depth as pbrt's `maxdepth`: emission reached after v segments counts when v − 1 ≤
-//! max_depth, a light sample from the v-th vertex when v ≤ max_depth. Pixel values are the
+//! max_depth, a light sample from the v-th vertex when v ≤ max_depth. From the fifth bounce on
+//! a path continues with probability [`continuation_probability`] (Russian roulette, as
+//! Mitsuba 3's and pbrt's path tracers do), so deep bounces that carry little light cost little. Pixel values are the
 //! mean radiance over the pixel's area (uniform jitter), the same measure as the MMLT image.
 //! Random numbers are keyed by (seed, pixel, sample, vertex), so the device and the CPU compute
 //! the same estimate. The path itself ([`trace_path`]) takes its uniforms from a
@@ -63,14 +65,36 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     }
 }
 
+/// The first vertex after which a path plays Russian roulette ([`continuation_probability`]):
+/// the fifth bounce, Mitsuba 3's default `rr_depth`, so that the first bounces, where most of
+/// an interior's light is, keep every path.
+pub const ROULETTE_DEPTH: u32 = 5;
+
+/// The probability that Russian roulette continues a path whose throughput is `beta`: its
+/// largest component, at most 0.95 (Mitsuba 3's rule; a path that survives divides its
+/// throughput by it, which keeps the estimate unbiased). Zero or NaN throughput ends the path.
+#[inline]
+pub fn continuation_probability(beta: Vec3) -> f32 {
+    let largest = beta.max_element();
+    if largest > 0.0 {
+        largest.min(0.95)
+    } else {
+        0.0
+    }
+}
+
 /// Where a path's uniforms come from: the reference's random numbers ([`KeyedSamples`]), or a
 /// Metropolis chain's primary sample vector (`crate::pssmlt`). One path tracer, two sources.
 pub trait PathSamples {
+    /// Whether paths from this source play Russian roulette from [`ROULETTE_DEPTH`] on.
+    const ROULETTE: bool;
     /// The two uniforms of the raster position (vertex 0).
     fn raster(&self) -> Vec2;
     /// The five uniforms of vertex `v` ≥ 1: the light pick, the point on the light (2), the
     /// BSDF direction (2).
     fn vertex(&self, v: u32) -> [f32; 5];
+    /// The uniform of vertex `v`'s Russian roulette (read only when [`PathSamples::ROULETTE`]).
+    fn roulette(&self, v: u32) -> f32;
 }
 
 /// The reference's uniforms: counter-based random numbers keyed by (seed, pixel, sample,
@@ -89,6 +113,8 @@ impl KeyedSamples {
 }
 
 impl PathSamples for KeyedSamples {
+    const ROULETTE: bool = true;
+
     #[inline]
     fn raster(&self) -> Vec2 {
         let a = rng::uniform4(self.key, rng::STREAM_REFERENCE, 0);
@@ -100,6 +126,11 @@ impl PathSamples for KeyedSamples {
         let a = rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v);
         let b = rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v + 1);
         [a[0], a[1], a[2], a[3], b[0]]
+    }
+
+    #[inline]
+    fn roulette(&self, v: u32) -> f32 {
+        rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v + 1)[1]
     }
 }
 
@@ -210,6 +241,13 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
             break;
         }
         beta *= bs.f * (bs.wi.dot(n).abs() / bs.pdf);
+        if S::ROULETTE && v >= ROULETTE_DEPTH {
+            let q = continuation_probability(beta);
+            if !(samples.roulette(v) < q) {
+                break;
+            }
+            beta /= q;
+        }
         pdf_bsdf_prev = bs.pdf;
         origin = spawn(p, n, bs.wi, settings.epsilon);
         d = bs.wi;
@@ -261,5 +299,27 @@ mod tests {
         }
         assert_eq!(power_heuristic(0.0, 0.0), 0.0);
         assert_eq!(power_heuristic(2.0, 0.0), 1.0);
+    }
+
+    /// Roulette keeps a bright path almost surely (at most 0.95), a dim one in proportion to
+    /// its throughput, and ends a black or NaN one; the surviving path's 1/q keeps E[β] = β.
+    #[test]
+    fn continuation_follows_the_throughput() {
+        assert_eq!(continuation_probability(Vec3::new(2.0, 0.1, 0.0)), 0.95);
+        assert_eq!(continuation_probability(Vec3::new(0.2, 0.5, 0.1)), 0.5);
+        assert_eq!(continuation_probability(Vec3::ZERO), 0.0);
+        assert_eq!(continuation_probability(Vec3::splat(f32::NAN)), 0.0);
+        let beta = Vec3::new(0.3, 0.2, 0.1);
+        let q = continuation_probability(beta);
+        let n = 100_000;
+        let mut mean = Vec3::ZERO;
+        for i in 0..n {
+            let u = rng::uniform(RngKey { seed: 9, chain: i, iteration: 0, dimension: 0 });
+            if u < q {
+                mean += beta / q;
+            }
+        }
+        let mean = mean / n as f32;
+        assert!((mean - beta).abs().max_element() < 0.01 * beta.max_element(), "{mean} {beta}");
     }
 }

@@ -1,10 +1,10 @@
 //! Primary-sample-space MLT over the path tracer (Kelemen et al. 2002, as LuxCore's Metropolis
 //! sampler over its path tracer): a chain's state is the primary sample vector u of one
-//! path-traced sample — the raster position and five uniforms per vertex — and its
+//! path-traced sample — the raster position and six uniforms per vertex — and its
 //! contribution is that sample's whole estimate ([`crate::path_tracer::trace_path`]: emission
 //! found by BSDF sampling and a light sample at every vertex, weighed by the power heuristic),
 //! at the pixel its raster position lands on. Every depth and both of its techniques count in
-//! each sample.
+//! each sample, and a path plays the path tracer's Russian roulette with its own uniform.
 //!
 //! **Pixel importance.** The contribution is F(u)/Ĩ_j, with Ĩ_j > 0 a fixed estimate of pixel
 //! j's luminance made before the chains start (`importance` buffer, one value a pixel), so the
@@ -30,13 +30,17 @@ use crate::scene::Scene;
 /// The dimensions (2) of the raster position, as fractions of the image's width and height.
 pub const PATH_DIM_RASTER: u32 = 0;
 
-/// First of the five dimensions of vertex `v` ≥ 1 (light pick, light point, BSDF direction).
+/// Dimensions of a vertex's uniforms: the light pick, the light point (2), the BSDF direction
+/// (2) and the Russian roulette.
+pub const PATH_VERTEX_DIMENSIONS: u32 = 6;
+
+/// First of the [`PATH_VERTEX_DIMENSIONS`] dimensions of vertex `v` ≥ 1.
 #[inline]
 pub fn path_vertex_dimension(v: u32) -> u32 {
-    2 + 5 * (v - 1)
+    2 + PATH_VERTEX_DIMENSIONS * (v - 1)
 }
 
-/// Dimensions of u for paths of up to `max_depth` bounces: the raster position and five for
+/// Dimensions of u for paths of up to `max_depth` bounces: the raster position and six for
 /// each of vertices 1..=max_depth (the vertex after the last bounce only finds emission).
 #[inline]
 pub fn path_dimensions(max_depth: u32) -> u32 {
@@ -51,6 +55,8 @@ pub struct ChainSamples<'a> {
 }
 
 impl PathSamples for ChainSamples<'_> {
+    const ROULETTE: bool = true;
+
     #[inline]
     fn raster(&self) -> Vec2 {
         self.samples.get2(self.u, PATH_DIM_RASTER)
@@ -61,6 +67,11 @@ impl PathSamples for ChainSamples<'_> {
         let first = path_vertex_dimension(v);
         let at = |i: u32| self.samples.get(self.u, first + i);
         [at(0), at(1), at(2), at(3), at(4)]
+    }
+
+    #[inline]
+    fn roulette(&self, v: u32) -> f32 {
+        self.samples.get(self.u, path_vertex_dimension(v) + 5)
     }
 }
 
@@ -90,12 +101,12 @@ mod tests {
 
     /// The layout covers every uniform a path of max_depth bounces reads, once.
     #[test]
-    fn every_vertex_has_its_own_five_dimensions() {
+    fn every_vertex_has_its_own_six_dimensions() {
         assert_eq!(path_dimensions(0), 2);
-        assert_eq!(path_dimensions(10), 52);
+        assert_eq!(path_dimensions(10), 62);
         for v in 1..=10 {
-            assert_eq!(path_vertex_dimension(v + 1) - path_vertex_dimension(v), 5);
-            assert!(path_vertex_dimension(v) + 5 <= path_dimensions(10));
+            assert_eq!(path_vertex_dimension(v + 1) - path_vertex_dimension(v), 6);
+            assert!(path_vertex_dimension(v) + 6 <= path_dimensions(10));
         }
         assert_eq!(path_vertex_dimension(1), 2);
     }
