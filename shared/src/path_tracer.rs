@@ -86,15 +86,11 @@ pub fn continuation_probability(beta: Vec3) -> f32 {
 /// Where a path's uniforms come from: the reference's random numbers ([`KeyedSamples`]), or a
 /// Metropolis chain's primary sample vector (`crate::pssmlt`). One path tracer, two sources.
 pub trait PathSamples {
-    /// Whether paths from this source play Russian roulette from [`ROULETTE_DEPTH`] on.
-    const ROULETTE: bool;
     /// The two uniforms of the raster position (vertex 0).
     fn raster(&self) -> Vec2;
-    /// The five uniforms of vertex `v` ≥ 1: the light pick, the point on the light (2), the
-    /// BSDF direction (2).
-    fn vertex(&self, v: u32) -> [f32; 5];
-    /// The uniform of vertex `v`'s Russian roulette (read only when [`PathSamples::ROULETTE`]).
-    fn roulette(&self, v: u32) -> f32;
+    /// The six uniforms of vertex `v` ≥ 1: the light pick, the point on the light (2), the
+    /// BSDF direction (2) and the Russian roulette (read from [`ROULETTE_DEPTH`] on).
+    fn vertex(&self, v: u32) -> [f32; 6];
 }
 
 /// The reference's uniforms: counter-based random numbers keyed by (seed, pixel, sample,
@@ -113,8 +109,6 @@ impl KeyedSamples {
 }
 
 impl PathSamples for KeyedSamples {
-    const ROULETTE: bool = true;
-
     #[inline]
     fn raster(&self) -> Vec2 {
         let a = rng::uniform4(self.key, rng::STREAM_REFERENCE, 0);
@@ -122,15 +116,10 @@ impl PathSamples for KeyedSamples {
     }
 
     #[inline]
-    fn vertex(&self, v: u32) -> [f32; 5] {
+    fn vertex(&self, v: u32) -> [f32; 6] {
         let a = rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v);
         let b = rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v + 1);
-        [a[0], a[1], a[2], a[3], b[0]]
-    }
-
-    #[inline]
-    fn roulette(&self, v: u32) -> f32 {
-        rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v + 1)[1]
+        [a[0], a[1], a[2], a[3], b[0], b[1]]
     }
 }
 
@@ -241,9 +230,9 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
             break;
         }
         beta *= bs.f * (bs.wi.dot(n).abs() / bs.pdf);
-        if S::ROULETTE && v >= ROULETTE_DEPTH {
+        if v >= ROULETTE_DEPTH {
             let q = continuation_probability(beta);
-            if !(samples.roulette(v) < q) {
+            if !(u[5] < q) {
                 break;
             }
             beta /= q;

@@ -55,23 +55,16 @@ pub struct ChainSamples<'a> {
 }
 
 impl PathSamples for ChainSamples<'_> {
-    const ROULETTE: bool = true;
-
     #[inline]
     fn raster(&self) -> Vec2 {
         self.samples.get2(self.u, PATH_DIM_RASTER)
     }
 
     #[inline]
-    fn vertex(&self, v: u32) -> [f32; 5] {
+    fn vertex(&self, v: u32) -> [f32; 6] {
         let first = path_vertex_dimension(v);
         let at = |i: u32| self.samples.get(self.u, first + i);
-        [at(0), at(1), at(2), at(3), at(4)]
-    }
-
-    #[inline]
-    fn roulette(&self, v: u32) -> f32 {
-        self.samples.get(self.u, path_vertex_dimension(v) + 5)
+        [at(0), at(1), at(2), at(3), at(4), at(5)]
     }
 }
 
