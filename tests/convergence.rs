@@ -26,6 +26,14 @@ fn settings(size: u32, max_depth: u32, mpp: f64, candidates: u32, bootstrap: u32
     }
 }
 
+/// `s` rendering with `method` (a command-line name), with its estimator's image step (as
+/// `smlt render` sets it).
+fn use_method(s: &mut Settings, method: &str) {
+    let m: render::Sampler = method.parse().unwrap();
+    (s.method, s.estimator) = (m.method, m.estimator);
+    s.mutation.image_s2 = m.estimator.image_step();
+}
+
 fn render_on(scene: &SceneData, s: &Settings, backend: &mut dyn Backend) -> Rendered {
     render::render(scene, s, backend, |_| {}).expect("render")
 }
@@ -91,10 +99,7 @@ fn the_path_estimator_matches_the_furnace() {
     {
         let scene = furnace(1.0, rho);
         let mut s = settings(16, k, mpp, 4096, 1 << 18);
-        (s.method, s.estimator) = {
-            let m: render::Sampler = method.parse().unwrap();
-            (m.method, m.estimator)
-        };
+        use_method(&mut s, method);
         println!("{method}:");
         check_furnace(&render_cpu(&scene, &s), furnace_radiance(1.0, rho, k), 0.08);
     }
@@ -209,8 +214,7 @@ fn every_method_converges_to_the_same_image() {
     let mut s = settings(32, 5, 256.0, 4096, 1 << 17);
     let naive = replica_blocks(&scene, &s, 30, 5);
     for method in ["s2", "s4", "s6", "rc4", "rc16", "pt", "path-naive", "path-s3"] {
-        let sampler: render::Sampler = method.parse().unwrap();
-        (s.method, s.estimator) = (sampler.method, sampler.estimator);
+        use_method(&mut s, method);
         let runs = replica_blocks(&scene, &s, 40, 5);
         let mut worst = 0.0f64;
         for b in 0..16 {
@@ -262,8 +266,7 @@ fn a_render_is_deterministic() {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
     for method in ["naive", "s3", "rc8", "pt", "path-s2"] {
         let mut s = settings(16, 4, 16.0, 1024, 4096);
-        let sampler: render::Sampler = method.parse().unwrap();
-        (s.method, s.estimator) = (sampler.method, sampler.estimator);
+        use_method(&mut s, method);
         let a = render_cpu(&scene, &s);
         let b = render_cpu(&scene, &s);
         assert_eq!(bits(&a.rgb), bits(&b.rgb), "{method}");

@@ -104,7 +104,11 @@ impl<'a> Difftest<'a> {
             budget: Budget::MutationsPerPixel(1.0),
             candidates: 2048,
             bootstrap_samples: 2048,
-            mutation: Default::default(),
+            // The estimator's own image step (the path estimator's differs from s2).
+            mutation: shared::mutation::MutationParams {
+                image_s2: estimator.image_step(),
+                ..Default::default()
+            },
             shard: render::Shard::WHOLE,
             estimator,
         };

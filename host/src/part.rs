@@ -54,6 +54,8 @@ pub struct Identity {
     pub s2: f32,
     /// Probability of a large step.
     pub p_large: f32,
+    /// Largest small-step size of the image-plane position.
+    pub image_s2: f32,
     /// Budget: "mpp M" or "seconds T".
     pub budget: String,
     /// Shards the render was split into.
@@ -81,6 +83,7 @@ impl Identity {
             s1: s.mutation.s1,
             s2: s.mutation.s2,
             p_large: s.mutation.p_large,
+            image_s2: s.mutation.image_s2,
             budget: match s.budget {
                 crate::render::Budget::Seconds(t) => format!("seconds {t}"),
                 crate::render::Budget::MutationsPerPixel(m) => format!("mpp {m}"),
@@ -110,6 +113,7 @@ impl Identity {
             "s1",
             "s2",
             "p_large",
+            "image_s2",
             "budget",
             "shard_count",
             "smlt_version",

@@ -3,7 +3,10 @@
 //!
 //! - **Small step**, per coordinate: `u' = u ± s2 · exp(−ln(s2/s1) · ξ)`, wrapped into [0, 1).
 //!   The offset's magnitude lies in (s1, s2] and is log-uniform there, the sign is a fair coin;
-//!   the offset does not depend on u, so the proposal is symmetric.
+//!   the offset does not depend on u, so the proposal is symmetric. The two image-plane
+//!   dimensions have their own s2 (`image_s2`, the same s2/s1), as LuxCore's image mutation
+//!   range: a raster step large enough to leave the pixel spreads a chain's splats over more
+//!   pixels.
 //! - **Large step**: every coordinate a fresh uniform (an independent sample), chosen with
 //!   probability `p_large`. In the speculative tree only the level-1 mutation may be large.
 //!
@@ -32,12 +35,17 @@ pub struct MutationParams {
     pub p_large: f32,
     /// ln(s2 / s1), precomputed ([`MutationParams::new`]).
     pub log_ratio: f32,
+    /// Largest small-step offset of the two image-plane dimensions, as a fraction of the
+    /// image (LuxCore's image mutation range); their smallest is `image_s2 · s1 / s2`.
+    pub image_s2: f32,
+    /// First of the two image-plane dimensions (the estimator's raster position).
+    pub image_dimension: u32,
 }
 
 impl MutationParams {
     /// The schedule for s1, s2 and p_large.
     pub fn new(s1: f32, s2: f32, p_large: f32) -> Self {
-        Self { s1, s2, p_large, log_ratio: (s2 / s1).ln() }
+        Self { s1, s2, p_large, log_ratio: (s2 / s1).ln(), image_s2: s2, image_dimension: 0 }
     }
 }
 
@@ -98,11 +106,25 @@ pub fn is_large_step(seed: u32, chain: u32, iteration: u32, p_large: f32) -> boo
     rng::uniform(key) < p_large
 }
 
-/// [`small_step_offset_log`] of four uniforms (four dimensions).
+/// The largest small-step offset of dimension `dim`: `image_s2` for the two image-plane
+/// dimensions, s2 for every other.
 #[inline]
-pub fn small_step_offsets(u: [f32; 4], params: &MutationParams) -> Vec4 {
-    let offset = |x: f32| small_step_offset_log(x, params.s2, params.log_ratio);
-    Vec4::new(offset(u[0]), offset(u[1]), offset(u[2]), offset(u[3]))
+pub fn largest_small_step(dim: u32, params: &MutationParams) -> f32 {
+    if dim == params.image_dimension || dim == params.image_dimension + 1 {
+        params.image_s2
+    } else {
+        params.s2
+    }
+}
+
+/// [`small_step_offset_log`] of four uniforms, for dimensions `4·group .. 4·group + 4`, each
+/// with its [`largest_small_step`] (and the same ratio s2/s1).
+#[inline]
+pub fn small_step_offsets(u: [f32; 4], group: u32, params: &MutationParams) -> Vec4 {
+    let offset = |x: f32, lane: u32| {
+        small_step_offset_log(x, largest_small_step(4 * group + lane, params), params.log_ratio)
+    };
+    Vec4::new(offset(u[0], 0), offset(u[1], 1), offset(u[2], 2), offset(u[3], 3))
 }
 
 /// [`small_step`] of four dimensions.
@@ -125,7 +147,7 @@ pub fn tree_level_step(key: RngKey, lvl: u32, large_step: bool, group: u32, para
     if lvl == 1 && large_step {
         Vec4::from_array(rng::uniform4(key, rng::STREAM_LARGE_STEP, group))
     } else {
-        small_step_offsets(rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, group), params)
+        small_step_offsets(rng::uniform4(key, rng::STREAM_PERTURBATION + lvl, group), group, params)
     }
 }
 
@@ -247,7 +269,7 @@ pub fn reject_chain_samples(
     }
     small_steps(
         current,
-        small_step_offsets(rng::uniform4(key, rng::STREAM_REJECT_PERTURBATION + i, group), params),
+        small_step_offsets(rng::uniform4(key, rng::STREAM_REJECT_PERTURBATION + i, group), group, params),
     )
 }
 
@@ -346,6 +368,37 @@ mod tests {
             counts[large_step_depth(1, chain, 2, rng::CONTROL_DEPTH, 3) as usize] += 1;
         }
         assert!(counts.iter().all(|&c| (c as f64 - 10_000.0).abs() < 500.0), "{counts:?}");
+    }
+
+    /// The image-plane dimensions (wherever the estimator puts them) step by up to image_s2,
+    /// every other by up to s2, with the same s2/s1; with image_s2 = s2 every dimension steps
+    /// as before (the seed's estimator's images are unchanged).
+    #[test]
+    fn the_image_plane_has_its_own_step() {
+        let base = MutationParams::default();
+        let u = [0.0, 0.0, 0.0, 0.0]; // ξ = 0: the largest offset, +s2
+        for image_dimension in [0, 1, 5] {
+            let p = MutationParams { image_s2: 0.25, image_dimension, ..base };
+            for group in 0..3 {
+                let o = small_step_offsets(u, group, &p);
+                for lane in 0..4 {
+                    let d = 4 * group + lane;
+                    let image = d == image_dimension || d == image_dimension + 1;
+                    assert_eq!(o[lane as usize], if image { 0.25 } else { base.s2 }, "dim {d}");
+                }
+            }
+            let same = MutationParams { image_dimension, ..base };
+            for i in 0..100 {
+                let xi = [i as f32 / 100.0, 0.3, 0.7, 0.99];
+                let expected =
+                    Vec4::from_array(xi.map(|x| small_step_offset_log(x, base.s2, base.log_ratio)));
+                assert_eq!(small_step_offsets(xi, 0, &same), expected);
+            }
+        }
+        // The smallest image offset keeps the ratio: image_s2 · s1 / s2.
+        let p = MutationParams { image_s2: 0.25, ..base };
+        let smallest = small_step_offsets([0.5 - 1e-7; 4], 0, &p)[0].abs();
+        assert!((smallest / (0.25 * base.s1 / base.s2) - 1.0).abs() < 1e-3, "{smallest}");
     }
 
     #[test]

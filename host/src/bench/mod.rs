@@ -67,8 +67,12 @@ pub struct BenchSettings {
     pub reference: Option<PathBuf>,
     /// Folder for `results.csv`, `passes.csv`, `tables.md`, the plots and the references.
     pub out: PathBuf,
-    /// The Metropolis methods' mutation schedule.
+    /// The Metropolis methods' mutation schedule (its `image_s2` replaced by `image_step`
+    /// or each method's estimator's own).
     pub mutation: MutationParams,
+    /// Largest small step of the image-plane position, for every method (None: each
+    /// estimator's [`crate::render::Estimator::image_step`]).
+    pub image_step: Option<f32>,
 }
 
 /// The render times at which every method is measured: 1, 2, 4, … below `seconds`, and `seconds`.
@@ -196,7 +200,10 @@ fn equal_time(
             budget: Budget::Seconds(b.seconds),
             candidates,
             bootstrap_samples: render::DEFAULT_BOOTSTRAP,
-            mutation: b.mutation,
+            mutation: MutationParams {
+                image_s2: b.image_step.unwrap_or(m.estimator.image_step()),
+                ..b.mutation
+            },
             shard: render::Shard::WHOLE,
         })
         .collect();

@@ -162,6 +162,7 @@ mod tests {
             reference: None,
             out: "out".into(),
             mutation: Default::default(),
+            image_step: None,
         };
         let noises = [("cornell".to_string(), 1, Some(0.01))];
         assert!(reference_table(&b, &[], &noises).contains("### References (512 spp;"));

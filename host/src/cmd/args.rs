@@ -180,6 +180,14 @@ pub fn positive_f64(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A number in (0, 1].
+pub fn step_f32(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 && v <= 1.0 => Ok(v),
+        _ => Err(format!("'{s}' is not a number in (0, 1]")),
+    }
+}
+
 /// A number in [0, 1].
 pub fn unit_f32(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use shared::mutation::MutationParams;
 
-use super::args::{positive_f64, unit_f32, DeviceArgs, PathArgs};
+use super::args::{positive_f64, step_f32, unit_f32, DeviceArgs, PathArgs};
 use crate::render::Sampler;
 
 /// A scene with an optional view: `atrium:2`.
@@ -69,6 +69,10 @@ pub struct Args {
     /// Probability of a large step, for every Metropolis method (as `smlt render --p-large`).
     #[arg(long, default_value_t = MutationParams::default().p_large, value_parser = unit_f32)]
     pub p_large: f32,
+    /// Largest small step of the image-plane position, for every Metropolis method (as `smlt
+    /// render --image-step`; default: each estimator's own).
+    #[arg(long, value_parser = step_f32)]
+    pub image_step: Option<f32>,
 }
 
 /// Runs `smlt bench`.
@@ -92,6 +96,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         reference: a.reference.clone(),
         out: a.out.clone(),
         mutation: MutationParams { p_large: a.p_large, ..Default::default() },
+        image_step: a.image_step,
     };
     crate::bench::run(&settings, device.gpu.as_ref(), |line| println!("{line}"))?;
     println!("wrote {}/results.csv and {}/tables.md", a.out.display(), a.out.display());

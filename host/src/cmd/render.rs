@@ -10,7 +10,7 @@ use std::sync::Arc;
 use indicatif::{ProgressBar, ProgressStyle};
 use shared::mutation::MutationParams;
 
-use super::args::{exposure, positive_f64, unit_f32, DeviceArgs, ImageArgs, PathArgs, SceneArgs};
+use super::args::{exposure, positive_f64, step_f32, unit_f32, DeviceArgs, ImageArgs, PathArgs, SceneArgs};
 use crate::output::Exposure;
 use crate::render::{self, Budget, Method, Sampler, Settings, Shard};
 
@@ -64,6 +64,10 @@ pub struct Args {
     /// Probability of a large step.
     #[arg(long, default_value_t = MutationParams::default().p_large, value_parser = unit_f32)]
     pub p_large: f32,
+    /// Largest small step of the image-plane position, as a fraction of the image (default 1/16
+    /// for path-… methods, 1/64 — Kelemen's s2, as every other dimension — for the others).
+    #[arg(long, value_parser = step_f32)]
+    pub image_step: Option<f32>,
     /// Write the image so far every this many seconds (Ctrl-C always writes it once more).
     #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
     pub checkpoint: Option<f64>,
@@ -148,7 +152,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         budget,
         candidates: a.candidates.unwrap_or(render::default_candidates(device.gpu.as_ref())),
         bootstrap_samples: a.bootstrap,
-        mutation: MutationParams { p_large: a.p_large, ..Default::default() },
+        mutation: MutationParams {
+            p_large: a.p_large,
+            image_s2: a.image_step.unwrap_or(a.method.estimator.image_step()),
+            ..Default::default()
+        },
         shard: a.shard.unwrap_or(Shard::WHOLE),
     };
     if settings.method != Method::PathTracer && settings.shard.count > settings.chains() {

@@ -5,7 +5,8 @@ use std::ops::Range;
 use std::str::FromStr;
 
 use shared::mmlt::{
-    estimator_dimensions, state_depths, RenderParams, METHOD_REJECT_CHAIN, METHOD_TREE, MODE_CHAINS,
+    estimator_dimensions, estimator_raster_dimension, state_depths, RenderParams, METHOD_REJECT_CHAIN,
+    METHOD_TREE, MODE_CHAINS,
 };
 use shared::mutation::MutationParams;
 use shared::path_tracer::ReferenceParams;
@@ -177,7 +178,10 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
     let n = chains.end - chains.start;
     RenderParams {
         camera: scene.camera(s.width, s.height),
-        mutation: s.mutation,
+        mutation: MutationParams {
+            image_dimension: estimator_raster_dimension(s.estimator.code()),
+            ..s.mutation
+        },
         width: s.width,
         height: s.height,
         max_depth: s.max_depth,

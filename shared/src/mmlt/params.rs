@@ -91,6 +91,17 @@ pub fn estimator_dimensions(estimator: u32, max_depth: u32) -> u32 {
     }
 }
 
+/// First of the two image-plane dimensions (the raster position) of a chain of `estimator`:
+/// the dimensions [`crate::mutation::MutationParams::image_s2`] applies to.
+#[inline]
+pub fn estimator_raster_dimension(estimator: u32) -> u32 {
+    if estimator == ESTIMATOR_PATH {
+        crate::pssmlt::PATH_DIM_RASTER
+    } else {
+        super::DIM_RASTER
+    }
+}
+
 /// How many path depths one chain state spans, the factor of b = depths · E[c] over uniform
 /// states (`crate::normalisation`): the multiplexed state (u, depth) one of max_depth + 1,
 /// the path estimator's u every depth at once (1).
