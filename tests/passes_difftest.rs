@@ -250,8 +250,14 @@ impl<'a> Difftest<'a> {
             &cpu.iteration.paths,
             &cpu.importance,
             &mut cpu.iteration.contributions,
+            &mut cpu.iteration.cand_depth,
         );
+        upload(self.dev.gpu(), &self.dev.buffers().iteration.cand_depth, &cpu.iteration.cand_depth);
         self.dev.run(params, &[Stage::Connect]).unwrap();
+        // The path estimator's connect writes the vertices each path read as its depth.
+        let dev_depth: Vec<u32> = self.dev.gpu().read(&self.dev.buffers().iteration.cand_depth, c).unwrap();
+        let depth_differ = cpu.iteration.cand_depth.iter().zip(&dev_depth).filter(|(a, b)| a != b).count();
+        assert!(depth_differ <= allowed(c), "candidate depths after connect: {depth_differ} differ");
         let dev_contrib: Vec<Vec4> =
             self.dev.gpu().read(&self.dev.buffers().iteration.contributions, c).unwrap();
         let differ = cpu

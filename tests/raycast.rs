@@ -185,7 +185,17 @@ fn a_path_reads_only_the_dimensions_of_its_depth() {
         let mut contributions = vec![glam::Vec4::ZERO; c];
         passes::trace::cpu(&params, &cand_depth, u, scene.shared(), &mut vertices, &mut paths);
         let importance = vec![1.0f32; (params.width * params.height) as usize];
-        passes::connect::cpu(&params, u, scene.shared(), &vertices, &paths, &importance, &mut contributions);
+        let mut depth_out = cand_depth.clone();
+        passes::connect::cpu(
+            &params,
+            u,
+            scene.shared(),
+            &vertices,
+            &paths,
+            &importance,
+            &mut contributions,
+            &mut depth_out,
+        );
         (log.rays, contributions)
     };
     let (rays, contributions) = run(&cand_u);

@@ -2,7 +2,8 @@
 //! with one shadow ray, weighs the path with the balance heuristic, and stores the packed
 //! contribution (F in rgb, the pixel index as the bits of w; seed §5.3). For the path
 //! estimator it traces the candidate's whole path instead (`shared::pssmlt::path_candidate`),
-//! divided by its pixel's importance.
+//! divided by its pixel's importance, and stores as the candidate's depth how many vertices'
+//! uniforms the path read (what `mutate` perturbs of the state it moves to).
 
 use shared::bsdf::Material;
 use shared::cwbvh::{WideBvh, WideNode};
@@ -28,6 +29,7 @@ pub fn connect<R: RayCaster>(
     paths: &[PathInfo],
     importance: &[f32],
     contributions: &mut [Vec4],
+    cand_depth: &mut [u32],
 ) {
     let k = k as u32;
     if k >= params.candidates {
@@ -35,7 +37,9 @@ pub fn connect<R: RayCaster>(
     }
     let samples = Samples { candidate: k, count: params.candidates };
     if params.estimator == ESTIMATOR_PATH {
-        contributions[k as usize] = path_candidate(params, scene, cand_u, samples, importance);
+        let (contribution, vertices) = path_candidate(params, scene, cand_u, samples, importance);
+        contributions[k as usize] = contribution;
+        cand_depth[k as usize] = vertices;
         return;
     }
     let connection = connect_candidate(params, scene, cand_u, samples, &paths[k as usize], vertices);
@@ -57,7 +61,8 @@ pub fn connect_cs(
     #[spirv(storage_buffer, descriptor_set = 0, binding = 7)] paths: &[PathInfo],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 8)] contributions: &mut [Vec4],
     #[spirv(storage_buffer, descriptor_set = 0, binding = 9)] importance: &[f32],
+    #[spirv(storage_buffer, descriptor_set = 0, binding = 10)] cand_depth: &mut [u32],
 ) {
     let scene = Scene { caster: WideBvh { nodes, triangles }, triangles, materials, lights };
-    connect(id.x as usize, &params[0], cand_u, scene, vertices, paths, importance, contributions);
+    connect(id.x as usize, &params[0], cand_u, scene, vertices, paths, importance, contributions, cand_depth);
 }

@@ -11,8 +11,10 @@
 //! fresh independent sample of depth `shared::normalisation::bootstrap_depth(index)`. Random numbers
 //! are keyed by the chain's render-wide index (`RenderParams::global_chain`). Groups of four dimensions
 //! that a candidate's depth never reads (`RenderParams::dimensions_used`) are left as they are.
-//! The path estimator's chains (`shared::pssmlt`) span every depth: their depth stays max_depth
-//! and every dimension is mutated.
+//! The path estimator's chains (`shared::pssmlt`) span every depth: a candidate's depth is
+//! max_depth until `connect` replaces it by the vertices its path read, and the naive and
+//! reject chains' small steps draw the groups the state never read afresh
+//! (`RenderParams::refreshes_group`).
 
 use shared::layout::{load_group, store_group};
 use shared::mmlt::{
@@ -75,12 +77,18 @@ pub fn mutate(
                 params.max_depth,
             )
         };
-        let depth = params.candidate_depth(large, fresh, chains[chain as usize].depth);
+        let kept = chains[chain as usize].depth;
+        let depth = params.candidate_depth(large, fresh, kept);
         cand_depth[k as usize] = depth;
         while group < groups {
             if params.dimensions_used(4 * group, 4, depth) {
-                let current = load_group(chain_u, chain, group, params.chains, dims);
-                let out = reject_chain_samples(current, j, large, key, group, &params.mutation);
+                let fresh_group = large || params.refreshes_group(group, kept);
+                let current = if fresh_group {
+                    Vec4::ZERO
+                } else {
+                    load_group(chain_u, chain, group, params.chains, dims)
+                };
+                let out = reject_chain_samples(current, j, fresh_group, key, group, &params.mutation);
                 store_group(cand_u, k, group, candidates, dims, out);
             }
             group += 1;
@@ -108,23 +116,29 @@ pub fn mutate(
             group += per_chain;
             continue;
         }
-        let current = load_group(chain_u, chain, group, params.chains, dims);
         if per_chain == 1 {
             // The naive chain: level 1 alone, without the tree's array of levels.
             if params.dimensions_used(4 * group, 4, depth_of(0)) {
-                let step = tree_level_step(key, 1, large, group, &params.mutation);
+                let fresh_group = large || params.refreshes_group(group, kept);
+                let current = if fresh_group {
+                    Vec4::ZERO
+                } else {
+                    load_group(chain_u, chain, group, params.chains, dims)
+                };
+                let step = tree_level_step(key, 1, fresh_group, group, &params.mutation);
                 store_group(
                     cand_u,
                     k,
                     group,
                     candidates,
                     dims,
-                    apply_tree_level_step(current, 1, large, step),
+                    apply_tree_level_step(current, 1, fresh_group, step),
                 );
             }
             group += 1;
             continue;
         }
+        let current = load_group(chain_u, chain, group, params.chains, dims);
         let steps = tree_level_steps(key, params.tree_depth, large, group, &params.mutation);
         let mut i = 0;
         while i < per_chain {

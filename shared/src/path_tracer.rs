@@ -150,6 +150,16 @@ impl From<&crate::mmlt::RenderParams> for PathSettings {
     }
 }
 
+/// What [`trace_path`] found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathEstimate {
+    /// The radiance estimate.
+    pub radiance: Vec3,
+    /// How many vertices' uniforms the path read ([`PathSamples::vertex`] of 1..=vertices):
+    /// the uniforms of later vertices did not change the estimate.
+    pub vertices: u32,
+}
+
 /// One path-traced estimate of the radiance arriving through raster point (`x`, `y`), with
 /// the vertices' uniforms from `samples`.
 #[inline]
@@ -158,13 +168,14 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
     scene: Scene<R>,
     (x, y): (f32, f32),
     samples: &S,
-) -> Vec3 {
+) -> PathEstimate {
     let cam = settings.camera;
     let mut d = cam.direction(x, y);
     let mut origin = cam.origin();
     let mut beta = Vec3::ONE;
     let mut radiance = Vec3::ZERO;
     let mut pdf_bsdf_prev = 0.0f32;
+    let mut vertices = 0u32;
     let mut v = 1u32;
     while v <= settings.max_depth + 1 {
         let hit = scene.caster.closest_hit(origin, d, 0.0, NO_HIT);
@@ -193,6 +204,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
             break;
         }
         let u = samples.vertex(v);
+        vertices = v;
         // Next-event estimation: one light sample from this vertex.
         let ls = sample_light(
             scene.lights,
@@ -242,7 +254,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         d = bs.wi;
         v += 1;
     }
-    radiance
+    PathEstimate { radiance, vertices }
 }
 
 /// One path-traced estimate of the radiance through a uniform point of pixel `pixel`.
@@ -258,7 +270,7 @@ pub fn pixel_sample<R: RayCaster>(
     let jitter = samples.raster();
     let x = (pixel % params.width) as f32 + jitter.x;
     let y = (pixel / params.width) as f32 + jitter.y;
-    trace_path(&settings, scene, (x, y), &samples)
+    trace_path(&settings, scene, (x, y), &samples).radiance
 }
 
 /// `params.samples` samples of pixel `pixel` for round `params.round`, summed.

@@ -68,8 +68,17 @@ impl PathSamples for ChainSamples<'_> {
     }
 }
 
-/// The path estimator's packed contribution of candidate `samples`: F/Ĩ_j in rgb, the pixel j
-/// as the bits of w, with `importance` holding Ĩ per pixel.
+/// Whether a path that read the uniforms of its first `vertices` vertices
+/// ([`crate::path_tracer::PathEstimate::vertices`]) read any of dimensions `4·group ..
+/// 4·group + 4`.
+#[inline]
+pub fn path_group_read(group: u32, vertices: u32) -> bool {
+    4 * group < path_vertex_dimension(vertices + 1)
+}
+
+/// The path estimator's packed contribution of candidate `samples` — F/Ĩ_j in rgb, the pixel j
+/// as the bits of w, with `importance` holding Ĩ per pixel — and how many vertices' uniforms
+/// its path read.
 #[inline]
 pub fn path_candidate<R: RayCaster>(
     params: &RenderParams,
@@ -77,15 +86,15 @@ pub fn path_candidate<R: RayCaster>(
     u: &[f32],
     samples: Samples,
     importance: &[f32],
-) -> Vec4 {
+) -> (Vec4, u32) {
     let chain = ChainSamples { u, samples };
     let raster = chain.raster();
     let cam = params.camera;
     let (x, y) = (raster.x * cam.width, raster.y * cam.height);
     let settings = PathSettings::from(params);
-    let l = trace_path(&settings, scene, (x, y), &chain);
+    let path = trace_path(&settings, scene, (x, y), &chain);
     let pixel = cam.pixel(x, y);
-    pack_contribution(l, 1.0 / importance[pixel as usize], pixel)
+    (pack_contribution(path.radiance, 1.0 / importance[pixel as usize], pixel), path.vertices)
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]
@@ -102,5 +111,18 @@ mod tests {
             assert!(path_vertex_dimension(v) + 6 <= path_dimensions(10));
         }
         assert_eq!(path_vertex_dimension(1), 2);
+    }
+
+    /// A path that read v vertices read dimensions 0 .. 2 + 6v: the groups of four that touch
+    /// them, a group straddling the boundary included.
+    #[test]
+    fn groups_read_are_those_below_the_last_vertex_read() {
+        let groups_read = |v: u32| (0..16).filter(|&g| path_group_read(g, v)).count();
+        assert_eq!(groups_read(0), 1); // the raster position: dims 0, 1
+        assert_eq!(groups_read(1), 2); // dims 0..8
+        assert_eq!(groups_read(2), 4); // dims 0..14: group 3 (12..16) straddles
+        assert_eq!(groups_read(3), 5); // dims 0..20
+        assert_eq!(groups_read(10), 16); // dims 0..62: every group
+        assert!(!path_group_read(4, 2) && path_group_read(3, 2));
     }
 }

@@ -79,6 +79,8 @@ pub fn log_candidates(
     let mut vertices = vec![PathVertex::default(); c * vertex_slots(params.max_depth) as usize];
     let mut paths = vec![PathInfo::default(); c];
     let mut contributions = vec![Vec4::ZERO; c];
+    // The path estimator's connect writes each path's vertex count here; the log needs none.
+    let mut cand_depth_out = cand_depth.to_vec();
     let mut per_candidate: Vec<Vec<Ray>> = Vec::with_capacity(c);
     // The pixel importance scales contributions, never rays.
     let importance = vec![1.0f32; (params.width * params.height) as usize];
@@ -96,6 +98,7 @@ pub fn log_candidates(
             &paths,
             &importance,
             &mut contributions,
+            &mut cand_depth_out,
         );
         per_candidate.push(log.into_rays());
     }

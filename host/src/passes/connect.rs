@@ -1,5 +1,6 @@
 //! The `connect` pass: binds params, candidate samples, the scene, vertices and path infos,
-//! writes the packed contributions, and reads the pixel importance (the path estimator's).
+//! writes the packed contributions, and reads the pixel importance (the path estimator's); the
+//! path estimator also writes each candidate's depth (the vertices its path read).
 
 use glam::Vec4;
 use kernels::connect::connect;
@@ -27,11 +28,13 @@ pub fn gpu(gpu: &Gpu, b: &GpuBuffers) -> Result<Pass, GpuError> {
             Binding::Read(&b.iteration.paths),
             Binding::Write(&b.iteration.contributions),
             Binding::Read(&b.importance),
+            Binding::Write(&b.iteration.cand_depth),
         ],
     )
 }
 
 /// The same body on the CPU, over every candidate.
+#[allow(clippy::too_many_arguments)] // one slice per binding, as the kernel takes them
 pub fn cpu<R: RayCaster>(
     params: &RenderParams,
     cand_u: &[f32],
@@ -40,8 +43,9 @@ pub fn cpu<R: RayCaster>(
     paths: &[PathInfo],
     importance: &[f32],
     contributions: &mut [Vec4],
+    cand_depth: &mut [u32],
 ) {
     for k in 0..params.candidates as usize {
-        connect(k, params, cand_u, scene, vertices, paths, importance, contributions);
+        connect(k, params, cand_u, scene, vertices, paths, importance, contributions, cand_depth);
     }
 }

@@ -64,6 +64,7 @@ impl<'a, R: RayCaster + Sync> CpuBuffers<'a, R> {
                 &b.paths,
                 &self.importance,
                 &mut b.contributions,
+                &mut b.cand_depth,
             ),
             Stage::Select => passes::select::cpu(
                 params,

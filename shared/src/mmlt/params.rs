@@ -152,6 +152,19 @@ impl RenderParams {
         self.estimator == ESTIMATOR_PATH || super::dimensions_used(first, count, depth, self.max_depth)
     }
 
+    /// Whether a small step gives dimensions `4·group .. 4·group + 4` of a chain at `depth`
+    /// fresh uniforms (the large step's of the same key, which a small step leaves unused)
+    /// instead of perturbing them: the path estimator's groups that its state's path never
+    /// read (its depth counts the vertices it read, `crate::pssmlt::path_group_read`), for the
+    /// naive chain and the reject chain. The target does not depend on unread uniforms, so
+    /// on paths (the read uniforms) the proposal is still symmetric — perturb what x read,
+    /// draw afresh what it did not — and a small step costs only the dimensions its path
+    /// used. The speculative tree's levels share offsets and perturb every dimension.
+    #[inline]
+    pub fn refreshes_group(&self, group: u32, depth: u32) -> bool {
+        self.estimator == ESTIMATOR_PATH && !crate::pssmlt::path_group_read(group, depth)
+    }
+
     /// The depth of a candidate whose proposal is `large` (a large step or a bootstrap sample,
     /// which draws a fresh depth with `fresh_depth`, only then) or a small step (which keeps its
     /// chain's `kept`): the path estimator's chains all span every depth, and keep max_depth.
