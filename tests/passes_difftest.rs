@@ -139,7 +139,7 @@ impl<'a> Difftest<'a> {
     fn bootstrap(&mut self) {
         let (method, c, n) = (self.method, self.candidates(), self.chains());
         let boot = RenderParams { mode: MODE_BOOTSTRAP, ..self.base };
-        let a = self.cpu.bootstrap(&boot);
+        let (a, depths) = self.cpu.bootstrap(&boot);
         self.dev.run(&boot, &[Stage::Mutate, Stage::Trace, Stage::Connect]).unwrap();
         let b: Vec<Vec4> = self.dev.gpu().read(&self.dev.buffers().iteration.contributions, c).unwrap();
         let differ = a.iter().zip(&b).filter(|(x, y)| !close4(**x, **y, 1e-3)).count();
@@ -153,11 +153,7 @@ impl<'a> Difftest<'a> {
             }
         }
         self.start = (0..n)
-            .map(|p| ChainState {
-                contribution: a[p].to_array(),
-                depth: shared::normalisation::bootstrap_depth(p as u32, self.base.max_depth),
-                ..Default::default()
-            })
+            .map(|p| ChainState { contribution: a[p].to_array(), depth: depths[p], ..Default::default() })
             .collect();
         self.cpu.iteration.chain_u.copy_from_slice(&chain_u);
         self.cpu.iteration.chains.copy_from_slice(&self.start);
@@ -252,12 +248,24 @@ impl<'a> Difftest<'a> {
             &mut cpu.iteration.contributions,
             &mut cpu.iteration.cand_depth,
         );
-        upload(self.dev.gpu(), &self.dev.buffers().iteration.cand_depth, &cpu.iteration.cand_depth);
+        // The path estimator's connect writes the vertices each path read as the candidate's
+        // depth: the device starts from a sentinel it must overwrite.
+        let path = self.base.estimator == shared::mmlt::ESTIMATOR_PATH;
+        let before = if path {
+            vec![u32::MAX; cpu.iteration.cand_depth.len()]
+        } else {
+            cpu.iteration.cand_depth.clone()
+        };
+        upload(self.dev.gpu(), &self.dev.buffers().iteration.cand_depth, &before);
         self.dev.run(params, &[Stage::Connect]).unwrap();
-        // The path estimator's connect writes the vertices each path read as its depth.
         let dev_depth: Vec<u32> = self.dev.gpu().read(&self.dev.buffers().iteration.cand_depth, c).unwrap();
         let depth_differ = cpu.iteration.cand_depth.iter().zip(&dev_depth).filter(|(a, b)| a != b).count();
         assert!(depth_differ <= allowed(c), "candidate depths after connect: {depth_differ} differ");
+        if path {
+            let short = cpu.iteration.cand_depth[..c].iter().filter(|&&v| v < self.base.max_depth).count();
+            println!("{}: paths that read fewer than max_depth vertices: {short} of {c}", self.method);
+            assert!(short > 0 && cpu.iteration.cand_depth[..c].iter().all(|&v| v <= self.base.max_depth));
+        }
         let dev_contrib: Vec<Vec4> =
             self.dev.gpu().read(&self.dev.buffers().iteration.contributions, c).unwrap();
         let differ = cpu
@@ -397,12 +405,13 @@ fn naive_passes_agree_on_device_and_cpu() {
     }
 }
 
-/// The path estimator's stages (`trace` idle, the whole path in `connect`), naive and s3.
+/// The path estimator's stages (`trace` idle, the whole path in `connect`), naive, s3 and rc4.
 #[test]
 fn path_estimator_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("path_estimator_passes_agree_on_device_and_cpu") {
         difftest_estimator(gpu.clone(), Method::Tree(1), render::Estimator::Path);
-        difftest_estimator(gpu, Method::Tree(3), render::Estimator::Path);
+        difftest_estimator(gpu.clone(), Method::Tree(3), render::Estimator::Path);
+        difftest_estimator(gpu, Method::RejectChain(4), render::Estimator::Path);
     }
 }
 

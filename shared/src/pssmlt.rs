@@ -15,9 +15,14 @@
 //! inside a pixel, the chains still follow the light. Any positive Ĩ gives the same image: the
 //! host multiplies pixel j's sums by Ĩ_j when it drains them.
 //!
-//! The chains, trees, reject chains, mutations, acceptance and splats are the seed's: only the
-//! `trace` and `connect` stages differ (the whole path is traced in `connect`, which has the
-//! scene, the candidate samples and the contribution buffer; `trace` has nothing to do).
+//! The chains, trees, reject chains, acceptance and splats are the seed's, and so are the
+//! mutations but for two things: the raster position's own largest small step
+//! (`crate::mutation::MutationParams::image_s2`) and, in the naive and reject chains' small
+//! steps, fresh uniforms for the groups of dimensions the state's path never read
+//! (`RenderParams::refreshes_group`; a chain's depth counts the vertices its path read, which
+//! `connect` records). Of the stages only `trace` and `connect` differ (the whole path is traced
+//! in `connect`, which has the scene, the candidate samples and the contribution buffer; `trace`
+//! has nothing to do).
 
 use glam::{Vec2, Vec4};
 

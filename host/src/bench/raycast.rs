@@ -68,7 +68,8 @@ impl RayLog {
 }
 
 /// Logs the rays that `trace` and then `connect` cast for every candidate of `cand_u` and
-/// `cand_depth` (as the device holds them after a `mutate` pass) under `params`.
+/// `cand_depth` (as the device holds them after a `mutate` pass; the path estimator's
+/// `connect` then writes its own depths, to a copy) under `params`.
 pub fn log_candidates(
     scene: &SceneData,
     params: &RenderParams,

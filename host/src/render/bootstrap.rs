@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use shared::mmlt::{
     bootstrap_sample, luminance, ChainState, RenderParams, BOOTSTRAP_ITERATION, MODE_BOOTSTRAP,
 };
-use shared::normalisation::{bootstrap_depth, normalisation_sample, Moments};
+use shared::normalisation::{normalisation_sample, Moments};
 use shared::rng::{self, RngKey};
 
 use super::cpu::CpuBuffers;
@@ -48,8 +48,8 @@ pub fn bootstrap(scene: &SceneData, s: &Settings, importance: &[f32]) -> Result<
     let importance: Arc<[f32]> = importance.into();
     let total = s.bootstrap_samples.max(s.chains());
     let batches: Vec<u32> = (0..total.div_ceil(BATCH)).collect();
-    let contributions: Vec<Vec4> = {
-        batches
+    let (contributions, depths): (Vec<Vec4>, Vec<u32>) = {
+        let traced: Vec<(Vec<Vec4>, Vec<u32>)> = batches
             .par_iter()
             .map(|&i| {
                 let offset = i * BATCH;
@@ -62,8 +62,9 @@ pub fn bootstrap(scene: &SceneData, s: &Settings, importance: &[f32]) -> Result<
                 };
                 CpuBuffers::new(scene.device_view(), &params, importance.clone()).bootstrap(&params)
             })
-            .collect::<Vec<Vec<Vec4>>>()
-            .concat()
+            .collect();
+        let (c, d): (Vec<_>, Vec<_>) = traced.into_iter().unzip();
+        (c.concat(), d.concat())
     };
     let mut moments = Moments::default();
     let mut cdf = Vec::with_capacity(contributions.len());
@@ -95,7 +96,7 @@ pub fn bootstrap(scene: &SceneData, s: &Settings, importance: &[f32]) -> Result<
         }
         chains[p as usize] = ChainState {
             contribution: contributions[g as usize].to_array(),
-            depth: base.candidate_depth(true, || bootstrap_depth(g, s.max_depth), 0),
+            depth: depths[g as usize],
             ..Default::default()
         };
     }

@@ -80,12 +80,14 @@ impl<'a, R: RayCaster + Sync> CpuBuffers<'a, R> {
     }
 
     /// Traces `params.candidates` bootstrap samples (mutate, trace and connect in bootstrap
-    /// mode) and returns their contributions.
-    pub fn bootstrap(&mut self, params: &RenderParams) -> Vec<Vec4> {
+    /// mode) and returns their contributions and depths (the multiplexed sample's path depth;
+    /// the path estimator's vertices read, which its chain starts from).
+    pub fn bootstrap(&mut self, params: &RenderParams) -> (Vec<Vec4>, Vec<u32>) {
         for stage in [Stage::Mutate, Stage::Trace, Stage::Connect] {
             self.run(stage, params, &mut []);
         }
-        self.iteration.contributions[..params.candidates as usize].to_vec()
+        let c = params.candidates as usize;
+        (self.iteration.contributions[..c].to_vec(), self.iteration.cand_depth[..c].to_vec())
     }
 }
 
@@ -196,7 +198,7 @@ impl CpuBackend<'_> {
     }
 
     /// Each group's dispatch parameters within `params`, candidate samples and depths (as the
-    /// last `mutate` left them).
+    /// last `mutate` left them; the path estimator's depths as its last `connect` left them).
     pub fn candidates(&self, params: &RenderParams) -> Vec<(RenderParams, &[f32], &[u32])> {
         self.groups
             .iter()

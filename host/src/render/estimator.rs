@@ -35,8 +35,9 @@ impl Estimator {
     /// (`MutationParams::image_s2`; `--image-step` overrides it). The seed's estimator keeps
     /// Kelemen's s2 = 1/64 of every dimension, so its images and tables stay as they were; the
     /// path estimator moves its raster position up to 1/16 of the image (LuxCore's Metropolis
-    /// sampler moves it up to 1/10 by default), measured 12–17 % lower relMSE at equal time
-    /// than 1/64 on Sibenik, Sponza, the banner view and `sunblind` (docs/results.md).
+    /// sampler moves it up to 1/10 by default), measured 12–18 % lower relMSE at equal time
+    /// than 1/64 on Sibenik, Sponza, the banner view and `sunblind`
+    /// (`results/cpu-path/image_step/`).
     pub fn image_step(self) -> f32 {
         match self {
             Estimator::Multiplexed => MutationParams::default().s2,

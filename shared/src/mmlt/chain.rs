@@ -6,7 +6,7 @@
 pub struct ChainState {
     /// The current state's contribution F (rgb) and pixel (bits of w).
     pub contribution: [f32; 4],
-    /// Path depth k of the chain.
+    /// Path depth k of the chain (the path estimator's: the vertices whose uniforms its path read).
     pub depth: u32,
     /// Expected number of accepted steps since the last drain.
     pub accepted: f32,

@@ -167,7 +167,8 @@ impl RenderParams {
 
     /// The depth of a candidate whose proposal is `large` (a large step or a bootstrap sample,
     /// which draws a fresh depth with `fresh_depth`, only then) or a small step (which keeps its
-    /// chain's `kept`): the path estimator's chains all span every depth, and keep max_depth.
+    /// chain's `kept`): the path estimator's chains all span every depth, so `mutate` gives its
+    /// candidates max_depth, which `connect` replaces by the vertices each path read.
     #[inline]
     pub fn candidate_depth(&self, large: bool, fresh_depth: impl FnOnce() -> u32, kept: u32) -> u32 {
         if self.estimator == ESTIMATOR_PATH {
