@@ -21,17 +21,16 @@ fn settings(size: u32, max_depth: u32, mpp: f64, candidates: u32, bootstrap: u32
         candidates,
         bootstrap_samples: bootstrap,
         mutation: MutationParams::default(),
+        image_step: None,
         shard: render::Shard::WHOLE,
         estimator: render::Estimator::Multiplexed,
     }
 }
 
-/// `s` rendering with `method` (a command-line name), with its estimator's image step (as
-/// `smlt render` sets it).
+/// `s` rendering with `method` (a command-line name).
 fn use_method(s: &mut Settings, method: &str) {
     let m: render::Sampler = method.parse().unwrap();
     (s.method, s.estimator) = (m.method, m.estimator);
-    s.mutation.image_s2 = m.estimator.image_step();
 }
 
 fn render_on(scene: &SceneData, s: &Settings, backend: &mut dyn Backend) -> Rendered {

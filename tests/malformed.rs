@@ -180,6 +180,7 @@ fn attempt(bytes: &[u8]) -> Result<Result<(), String>, String> {
             candidates: 48,
             bootstrap_samples: 256,
             mutation: Default::default(),
+            image_step: None,
             shard: render::Shard::WHOLE,
             estimator: render::Estimator::Multiplexed,
         };

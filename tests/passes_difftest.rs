@@ -104,11 +104,9 @@ impl<'a> Difftest<'a> {
             budget: Budget::MutationsPerPixel(1.0),
             candidates: 2048,
             bootstrap_samples: 2048,
+            mutation: Default::default(),
             // The estimator's own image step (the path estimator's differs from s2).
-            mutation: shared::mutation::MutationParams {
-                image_s2: estimator.image_step(),
-                ..Default::default()
-            },
+            image_step: None,
             shard: render::Shard::WHOLE,
             estimator,
         };
@@ -445,6 +443,7 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
         candidates: 7 * 64,
         bootstrap_samples: 64,
         mutation: Default::default(),
+        image_step: None,
         shard: render::Shard::WHOLE,
         estimator: render::Estimator::Multiplexed,
     };
@@ -516,6 +515,7 @@ fn every_pass_binds_what_its_kernel_declares() {
         candidates: 192,
         bootstrap_samples: 192,
         mutation: Default::default(),
+        image_step: None,
         shard: render::Shard::WHOLE,
         estimator: render::Estimator::Multiplexed,
     };
@@ -562,6 +562,7 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
             candidates: 24 * 16 * 4,
             bootstrap_samples: 1,
             mutation: Default::default(),
+            image_step: None,
             shard: render::Shard::WHOLE,
             estimator: render::Estimator::Multiplexed,
         };

@@ -25,6 +25,7 @@ fn candidates(scene: &SceneData, count: u32, max_depth: u32) -> (RenderParams, V
         candidates: count,
         bootstrap_samples: count,
         mutation: Default::default(),
+        image_step: None,
         shard: render::Shard::WHOLE,
         estimator: render::Estimator::Multiplexed,
     };

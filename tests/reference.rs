@@ -121,6 +121,7 @@ fn the_reference_and_mmlt_agree_on_the_default_scene() {
                     candidates: 4096,
                     bootstrap_samples: 1 << 17,
                     mutation: Default::default(),
+                    image_step: None,
                     shard: render::Shard::WHOLE,
                     estimator: render::Estimator::Multiplexed,
                 };

@@ -28,6 +28,7 @@ fn settings(method: &str, shard: Shard) -> Settings {
         candidates: 1536,
         bootstrap_samples: 8192,
         mutation: Default::default(),
+        image_step: None,
         shard,
     }
 }

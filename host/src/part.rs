@@ -83,7 +83,7 @@ impl Identity {
             s1: s.mutation.s1,
             s2: s.mutation.s2,
             p_large: s.mutation.p_large,
-            image_s2: s.mutation.image_s2,
+            image_s2: s.mutation_params().image_s2,
             budget: match s.budget {
                 crate::render::Budget::Seconds(t) => format!("seconds {t}"),
                 crate::render::Budget::MutationsPerPixel(m) => format!("mpp {m}"),

@@ -125,6 +125,7 @@ pub fn render_reference(
         candidates: per_round.saturating_mul(pixels as u32),
         bootstrap_samples: 1,
         mutation: Default::default(),
+        image_step: None,
         shard: Shard::WHOLE,
     };
     let params = base_params(scene, &settings);

@@ -67,8 +67,7 @@ pub struct BenchSettings {
     pub reference: Option<PathBuf>,
     /// Folder for `results.csv`, `passes.csv`, `tables.md`, the plots and the references.
     pub out: PathBuf,
-    /// The Metropolis methods' mutation schedule (its `image_s2` replaced by `image_step`
-    /// or each method's estimator's own).
+    /// The Metropolis methods' mutation schedule.
     pub mutation: MutationParams,
     /// Largest small step of the image-plane position, for every method (None: each
     /// estimator's [`crate::render::Estimator::image_step`]).
@@ -200,10 +199,8 @@ fn equal_time(
             budget: Budget::Seconds(b.seconds),
             candidates,
             bootstrap_samples: render::DEFAULT_BOOTSTRAP,
-            mutation: MutationParams {
-                image_s2: b.image_step.unwrap_or(m.estimator.image_step()),
-                ..b.mutation
-            },
+            mutation: b.mutation,
+            image_step: b.image_step,
             shard: render::Shard::WHOLE,
         })
         .collect();

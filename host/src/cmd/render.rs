@@ -152,11 +152,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         budget,
         candidates: a.candidates.unwrap_or(render::default_candidates(device.gpu.as_ref())),
         bootstrap_samples: a.bootstrap,
-        mutation: MutationParams {
-            p_large: a.p_large,
-            image_s2: a.image_step.unwrap_or(a.method.estimator.image_step()),
-            ..Default::default()
-        },
+        mutation: MutationParams { p_large: a.p_large, ..Default::default() },
+        image_step: a.image_step,
         shard: a.shard.unwrap_or(Shard::WHOLE),
     };
     if settings.method != Method::PathTracer && settings.shard.count > settings.chains() {

@@ -94,13 +94,27 @@ pub struct Settings {
     /// Bootstrap samples, from which the chains' start states are drawn (at least one per chain
     /// is traced).
     pub bootstrap_samples: u32,
-    /// Kelemen's s1 and s2 and the large-step probability p_large.
+    /// Kelemen's s1 and s2 and the large-step probability p_large (its `image_s2` is
+    /// [`Settings::image_step`]'s, see [`Settings::mutation_params`]).
     pub mutation: MutationParams,
+    /// The largest small step of the raster position, as a fraction of the image (None: the
+    /// estimator's own, [`Estimator::image_step`]).
+    pub image_step: Option<f32>,
     /// The part of the chains this process renders.
     pub shard: Shard,
 }
 
 impl Settings {
+    /// The mutation schedule the chains run: `mutation` with the image step resolved and the
+    /// estimator's image-plane dimensions.
+    pub fn mutation_params(&self) -> MutationParams {
+        MutationParams {
+            image_s2: self.image_step.unwrap_or(self.estimator.image_step()),
+            image_dimension: estimator_raster_dimension(self.estimator.code()),
+            ..self.mutation
+        }
+    }
+
     /// The method with its estimator (its name in tables and part files; the path tracer has
     /// no chains, so no estimator).
     pub fn sampler(&self) -> Sampler {
@@ -178,10 +192,7 @@ pub fn base_params(scene: &SceneData, s: &Settings) -> RenderParams {
     let n = chains.end - chains.start;
     RenderParams {
         camera: scene.camera(s.width, s.height),
-        mutation: MutationParams {
-            image_dimension: estimator_raster_dimension(s.estimator.code()),
-            ..s.mutation
-        },
+        mutation: s.mutation_params(),
         width: s.width,
         height: s.height,
         max_depth: s.max_depth,
@@ -262,6 +273,33 @@ mod tests {
         }
     }
 
+    /// A render's image step is its estimator's unless one is given, on the estimator's own
+    /// raster dimensions; the rest of the schedule is the settings'.
+    #[test]
+    fn the_image_step_follows_the_estimator() {
+        let mut s = Settings {
+            width: 8,
+            height: 8,
+            max_depth: 3,
+            seed: 1,
+            method: Method::Tree(1),
+            estimator: Estimator::Path,
+            budget: Budget::MutationsPerPixel(1.0),
+            candidates: 64,
+            bootstrap_samples: 64,
+            mutation: MutationParams { p_large: 0.5, ..Default::default() },
+            image_step: None,
+            shard: Shard::WHOLE,
+        };
+        let m = s.mutation_params();
+        assert_eq!((m.image_s2, m.image_dimension, m.p_large), (1.0 / 16.0, 0, 0.5));
+        s.estimator = Estimator::Multiplexed;
+        let m = s.mutation_params();
+        assert_eq!((m.image_s2, m.image_dimension), (MutationParams::default().s2, 1));
+        s.image_step = Some(0.25);
+        assert_eq!(s.mutation_params().image_s2, 0.25);
+    }
+
     /// The path tracer's shards take the rounds in turns: together, every round of the unsplit
     /// render's budget exactly once.
     #[test]
@@ -277,6 +315,7 @@ mod tests {
             candidates: 120,
             bootstrap_samples: 1,
             mutation: MutationParams::default(),
+            image_step: None,
             shard: Shard::WHOLE,
         };
         assert_eq!(whole.samples_per_round(), 2);
