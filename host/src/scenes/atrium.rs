@@ -1,5 +1,5 @@
 //! `atrium`: a courtyard open to the sky, lit only through its roof opening — a large sky
-//! panel above and a small bright sun — with columns along two sides and a highly specular
+//! panel above and a small bright sun hung under it (`super::sun_below_sky`) — with columns along two sides and a highly specular
 //! banner (Phong exponent 1e5) on the back wall that throws a caustic onto the floor. View 1
 //! looks across the sunlit court (mostly direct light); view 2 looks into the banner, which
 //! shows the court and its caustic by reflection (the hard, reflected-caustic case).
@@ -30,14 +30,11 @@ pub fn atrium(tessellation: u32) -> String {
     b.quad(plaster, [v(-r, h, o), v(r, h, o), v(r, h, r), v(-r, h, r)]);
     b.quad(plaster, [v(-r, h, -o), v(-o, h, -o), v(-o, h, o), v(-r, h, o)]);
     b.quad(plaster, [v(o, h, -o), v(r, h, -o), v(r, h, o), v(o, h, o)]);
-    // Sky panel above the opening, facing down; a small sun high above one corner.
+    // Sky panel above the opening, facing down.
     b.quad(sky, [v(-8., 12., -8.), v(8., 12., -8.), v(8., 12., 8.), v(-8., 12., 8.)]);
-    // Through the opening onto the banner: the sun's rays cross the roof plane at z ≈ −1.
-    let sun_at = v(3.0, 40.0, 32.0);
-    let aim = (v(0.0, 4.5, -4.6) - sun_at).normalize();
-    let (t, s) = super::frame(aim);
-    let q = [sun_at - t - s, sun_at - t + s, sun_at + t + s, sun_at + t - s];
-    b.quad(sun, super::facing(q, aim));
+    // The sun as one of half-size 1 m at (3, 40, 32) would be seen from the banner, hung under the
+    // sky panel (which would shadow it); its rays cross the roof plane at z ≈ −1.
+    b.quad(sun, super::sun_below_sky(v(3.0, 40.0, 32.0), 1.0, v(0.0, 4.5, -4.6), 11.0));
     // Columns along the left and right walls.
     for x in [-4.2f32, 4.2] {
         for z in [-3.0f32, -1.0, 1.0, 3.0] {

@@ -31,6 +31,22 @@ pub fn facing(q: [Vec3; 4], dir: Vec3) -> [Vec3; 4] {
     }
 }
 
+/// A small square sun, facing `target`, as a sun of half-size `half` at `far` would be seen
+/// from `target` — the same direction, the same solid angle (its half-size scaled with its
+/// distance) and, at the same emitted radiance, the same irradiance — but moved along that line
+/// down to height `y`. A scene's sky emitter is an opaque triangle like any other: a sun above
+/// it would light nothing (as the atrium's and the Sponza banner's did until they were placed
+/// this way), so a sun goes just under the sky, inside the opening its light comes through.
+pub fn sun_below_sky(far: Vec3, half: f32, target: Vec3, y: f32) -> [Vec3; 4] {
+    let t = (far.y - y) / (far.y - target.y);
+    let centre = far.lerp(target, t);
+    let half = half * (target - centre).length() / (target - far).length();
+    let towards = (target - centre).normalize();
+    let (u, v) = frame(towards);
+    let (u, v) = (u * half, v * half);
+    facing([centre - u - v, centre + u - v, centre + u + v, centre - u + v], towards)
+}
+
 /// The names of the generated scenes.
 pub const GENERATED: [&str; 5] = ["cornell", "atrium", "nave", "sunblind", "slit"];
 
