@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """LuxCoreRender as a peer of smlt's bench: `BIDIRCPU` with the `METROPOLIS` sampler (an MLT
-peer) or `PATHCPU`, on one of smlt's glTF scene views, at equal wall time, measured against
-smlt's reference with smlt's error definitions; rows in the bench's results.csv format
-(method `luxcore-bidir-mlt` or `luxcore-path`; candidates = samples).
+peer) or `PATHCPU` with `SOBOL` (`--sampler` swaps them: `PATHCPU` with `METROPOLIS` is
+LuxCore's Metropolis over its path tracer, as smlt's `path-` methods), on one of smlt's glTF
+scene views, at equal wall time, measured against smlt's reference with smlt's error
+definitions; rows in the bench's results.csv format (method `luxcore-<engine>`, `-mlt` with the
+Metropolis sampler: `luxcore-bidir-mlt`, `luxcore-path`, `luxcore-path-mlt`, `luxcore-bidir`;
+candidates = samples).
 
     python3 luxcore_peer.py SCENE.gltf --view 1 --width 128 --height 72 --max-depth 10 \\
         --engine bidir --seconds 8 --repeats 3 --reference REF.exr --label scene --out peers.csv
@@ -34,7 +37,7 @@ import gltf_scene  # noqa: E402
 from peer_common import append_rows, arguments, errors, row, time_grid, write_ply  # noqa: E402
 
 
-def props(scene, view, width, height, max_depth, engine, folder, threads):
+def props(scene, view, width, height, max_depth, engine, sampler, folder, threads):
     cam = scene.cameras[view - 1]
     target = cam.position + cam.forward
     aspect = width / height
@@ -71,7 +74,7 @@ def props(scene, view, width, height, max_depth, engine, folder, threads):
         p.append(f"scene.objects.o{m}.material = m{m}")
     c = [
         f"renderengine.type = {'BIDIRCPU' if engine == 'bidir' else 'PATHCPU'}",
-        f"sampler.type = {'METROPOLIS' if engine == 'bidir' else 'SOBOL'}",
+        f"sampler.type = {sampler.upper()}",
         f"path.maxdepth = {max_depth + 1}",
         f"path.pathdepth.total = {max_depth + 1}",
         f"path.pathdepth.diffuse = {max_depth + 1}",
@@ -102,6 +105,8 @@ def read_exr(path):
 def main():
     ap = arguments(__doc__)
     ap.add_argument("--engine", choices=["bidir", "path"], default="bidir")
+    ap.add_argument("--sampler", choices=["metropolis", "sobol"],
+                    help="default: metropolis for bidir, sobol for path")
     ap.add_argument("--threads", type=int, default=os.cpu_count())
     ap.add_argument("--row-shift", type=int, default=-1,
                     help="move the raster by this many rows (LuxCore 2.11's is one row off: -1, checked)")
@@ -113,10 +118,11 @@ def main():
     pyluxcore.Init(lambda msg: None)
     scene = gltf_scene.load(a.scene)
     label = a.label or os.path.splitext(os.path.basename(a.scene))[0]
-    method = "luxcore-bidir-mlt" if a.engine == "bidir" else "luxcore-path"
+    sampler = a.sampler or ("metropolis" if a.engine == "bidir" else "sobol")
+    method = f"luxcore-{a.engine}" + ("-mlt" if sampler == "metropolis" else "")
     rows = []
     with tempfile.TemporaryDirectory() as folder:
-        scene_props, config = props(scene, a.view, a.width, a.height, a.max_depth, a.engine, folder, a.threads)
+        scene_props, config = props(scene, a.view, a.width, a.height, a.max_depth, a.engine, sampler, folder, a.threads)
         if a.row_shift:
             h = 2.0 / a.height * a.row_shift
             aspect = a.width / a.height
