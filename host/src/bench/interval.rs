@@ -2,14 +2,16 @@
 //! independent seeds and reports each measurement as a mean with a two-sided 95 % Student t
 //! interval; a method is called best only where its interval does not overlap the others'.
 
-/// A mean and the half-width of its 95 % confidence interval (0 for a single value).
+/// A mean and its 95 % confidence interval [low, high] (both the mean for a single value).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interval {
     #[allow(missing_docs)] // of the values: named for what it is
     pub mean: f64,
-    /// Half the width of the 95 % interval: t(0.975, n − 1) · s / √n.
-    pub half_width: f64,
-    /// Number of values; below 2 the half-width is 0.
+    /// Lower end of the 95 % interval.
+    pub low: f64,
+    /// Upper end of the 95 % interval (∞ for a reciprocal whose interval reaches 0).
+    pub high: f64,
+    /// Number of values; below 2 the interval is the mean alone.
     pub n: usize,
 }
 
@@ -28,25 +30,41 @@ pub fn t975(dof: usize) -> f64 {
 }
 
 impl Interval {
-    /// The interval of `values` (at least one).
+    /// `mean` ± `half_width` over `n` values.
+    pub fn symmetric(mean: f64, half_width: f64, n: usize) -> Interval {
+        Interval { mean, low: mean - half_width, high: mean + half_width, n }
+    }
+
+    /// The interval of `values` (at least one): their mean ± t(0.975, n − 1) · s / √n.
     pub fn of(values: &[f64]) -> Interval {
         let n = values.len();
         let mean = values.iter().sum::<f64>() / n.max(1) as f64;
         if n < 2 {
-            return Interval { mean, half_width: 0.0, n };
+            return Interval::symmetric(mean, 0.0, n);
         }
         let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
-        Interval { mean, half_width: t975(n - 1) * (variance / n as f64).sqrt(), n }
+        Interval::symmetric(mean, t975(n - 1) * (variance / n as f64).sqrt(), n)
     }
 
-    /// Lower end: mean − half-width.
+    /// The interval of 1/x for this interval of a positive quantity x: 1/mean, with the ends
+    /// mapped and swapped (1/low is ∞ where the interval reaches 0). The efficiency 1/(relMSE ×
+    /// seconds) is taken this way from the mean relMSE × seconds over the repeats, not as the
+    /// mean of each run's own 1/(relMSE × seconds): by Jensen's inequality that mean is larger,
+    /// and for an estimator whose error is heavy-tailed (a few runs with a firefly or a stuck
+    /// chain) it reports the lucky runs' efficiency instead of the expected error's.
+    pub fn reciprocal(&self) -> Interval {
+        let inv = |x: f64| if x > 0.0 { 1.0 / x } else { f64::INFINITY };
+        Interval { mean: inv(self.mean), low: inv(self.high), high: inv(self.low), n: self.n }
+    }
+
+    /// Lower end of the interval.
     pub fn low(&self) -> f64 {
-        self.mean - self.half_width
+        self.low
     }
 
-    /// Upper end: mean + half-width.
+    /// Upper end of the interval.
     pub fn high(&self) -> f64 {
-        self.mean + self.half_width
+        self.high
     }
 
     /// Whether the two intervals share no point.
@@ -54,12 +72,19 @@ impl Interval {
         self.high() < other.low() || other.high() < self.low()
     }
 
-    /// "mean ± half-width" (just the mean for a single value), with `decimals` decimals.
+    /// "mean ± half-width" for a symmetric interval, "mean (low–high)" for another (the
+    /// reciprocals), just the mean for a single value; with `decimals` decimals.
     pub fn show(&self, decimals: usize) -> String {
+        let below = self.mean - self.low;
+        let above = self.high - self.mean;
         if self.n < 2 {
             format!("{:.*}", decimals, self.mean)
+        } else if self.high.is_infinite() {
+            format!("{:.*} ({:.*}–∞)", decimals, self.mean, decimals, self.low)
+        } else if (below - above).abs() <= 1e-9 * below.abs().max(above.abs()).max(1e-300) {
+            format!("{:.*} ± {:.*}", decimals, self.mean, decimals, above)
         } else {
-            format!("{:.*} ± {:.*}", decimals, self.mean, decimals, self.half_width)
+            format!("{:.*} ({:.*}–{:.*})", decimals, self.mean, decimals, self.low, decimals, self.high)
         }
     }
 }
@@ -86,8 +111,9 @@ mod tests {
         let i = Interval::of(&[1.0, 2.0, 3.0, 4.0]);
         assert_eq!(i.mean, 2.5);
         // s = √(5/3), t(3) = 3.182
-        assert!((i.half_width - 3.182 * (5.0f64 / 3.0 / 4.0).sqrt()).abs() < 1e-9);
-        assert_eq!(Interval::of(&[7.0]).half_width, 0.0);
+        assert!((i.high - i.mean - 3.182 * (5.0f64 / 3.0 / 4.0).sqrt()).abs() < 1e-9);
+        assert!((i.mean - i.low - 3.182 * (5.0f64 / 3.0 / 4.0).sqrt()).abs() < 1e-9);
+        assert_eq!(Interval::of(&[7.0]).low, 7.0);
         assert_eq!(Interval::of(&[7.0]).show(2), "7.00");
         assert_eq!(Interval::of(&[1.0, 3.0]).show(1), "2.0 ± 12.7");
     }
@@ -116,15 +142,33 @@ mod tests {
         assert!((rate - 0.95).abs() < 0.015, "coverage {rate}");
     }
 
+    /// The reciprocal of an interval maps its ends and swaps them, with ∞ where it reaches 0;
+    /// for heavy-tailed values the reciprocal of the mean lies well below the mean of the
+    /// reciprocals (what the efficiency table used to show).
+    #[test]
+    fn reciprocals_map_and_swap_the_ends() {
+        let i = Interval::symmetric(0.5, 0.25, 3).reciprocal();
+        assert_eq!((i.mean, i.low, i.high), (2.0, 1.0 / 0.75, 4.0));
+        assert_eq!(i.show(2), "2.00 (1.33–4.00)");
+        let wide = Interval::symmetric(0.5, 0.75, 3).reciprocal();
+        assert_eq!(wide.high, f64::INFINITY);
+        assert_eq!(wide.show(1), "2.0 (0.8–∞)");
+        // relMSE of three runs, one with a firefly: 1/mean against the mean of 1/x.
+        let runs = [0.0129, 0.0143, 0.0419];
+        let expected = Interval::of(&runs).reciprocal().mean;
+        let lucky = runs.iter().map(|r| 1.0 / r).sum::<f64>() / 3.0;
+        assert!((expected - 1.0 / 0.023033).abs() < 1e-3 && lucky > 1.3 * expected, "{expected} {lucky}");
+    }
+
     #[test]
     fn best_only_where_the_intervals_separate() {
-        let a = Interval { mean: 1.0, half_width: 0.1, n: 3 };
-        let b = Interval { mean: 2.0, half_width: 0.1, n: 3 };
-        let c = Interval { mean: 1.15, half_width: 0.1, n: 3 };
+        let a = Interval::symmetric(1.0, 0.1, 3);
+        let b = Interval::symmetric(2.0, 0.1, 3);
+        let c = Interval::symmetric(1.15, 0.1, 3);
         assert_eq!(clear_best(&[b, a], false), Some(1));
         assert_eq!(clear_best(&[b, a], true), Some(0));
         assert_eq!(clear_best(&[a, b, c], false), None, "a and c overlap");
-        let single = Interval { mean: 1.0, half_width: 0.0, n: 1 };
+        let single = Interval::symmetric(1.0, 0.0, 1);
         assert_eq!(clear_best(&[single, b], false), None, "single runs never decide");
     }
 }
