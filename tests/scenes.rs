@@ -131,8 +131,8 @@ fn assert_the_sun_lights_the_banner(scene: &SceneData, name: &str) {
     // Its mirror image leaves the banner into the scene: the caustic lands on a lit surface.
     let tri =
         scene.triangles.iter().find(|t| scene.materials[t.material as usize].phong_exponent == 1e5).unwrap();
-    let n = tri.normal();
-    let (to_sun, n) = ((sun - banner).normalize(), if tri.normal().dot(sun - banner) > 0.0 { n } else { -n });
+    let to_sun = (sun - banner).normalize();
+    let n = tri.normal() * tri.normal().dot(to_sun).signum();
     let mirrored = 2.0 * to_sun.dot(n) * n - to_sun;
     let hit = scene.shared().caster.closest_hit(banner + n * 1e-3, mirrored, 0.0, 1e30);
     assert!(

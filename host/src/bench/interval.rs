@@ -81,7 +81,7 @@ impl Interval {
             format!("{:.*}", decimals, self.mean)
         } else if self.high.is_infinite() {
             format!("{:.*} ({:.*}–∞)", decimals, self.mean, decimals, self.low)
-        } else if (below - above).abs() <= 1e-9 * below.abs().max(above.abs()).max(1e-300) {
+        } else if (below - above).abs() <= 1e-9 * (below + above) {
             format!("{:.*} ± {:.*}", decimals, self.mean, decimals, above)
         } else {
             format!("{:.*} ({:.*}–{:.*})", decimals, self.mean, decimals, self.low, decimals, self.high)

@@ -23,22 +23,25 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
     let header = columns.iter().map(|(s, v)| format!(" {s} v{v} |")).collect::<String>();
     let rule = "---|".repeat(columns.len());
     type Value = fn(&Row) -> f64;
-    let tables: [(String, Value, usize, bool); 6] = [
+    // (title, value of a row, decimals, higher is better, shown as the reciprocal of the mean).
+    let tables: [(String, Value, usize, bool, bool); 6] = [
         (
             "Million mutations (candidates; a peer's paths) per second".into(),
             |r| r.mutations_per_s / 1e6,
             3,
             true,
+            false,
         ),
         (
             "Speedup of mutations/s over naive (path-*: over path-naive; ratio of the means)".into(),
             |r| r.mutations_per_s,
             2,
             true,
+            false,
         ),
-        (format!("PSNR (dB, peak 1 on clamped values) after {seconds} s"), |r| r.errors.psnr, 2, true),
-        (format!("RMSE after {seconds} s"), |r| r.errors.rmse, 4, false),
-        (format!("relMSE after {seconds} s"), |r| r.errors.relmse, 4, false),
+        (format!("PSNR (dB, peak 1 on clamped values) after {seconds} s"), |r| r.errors.psnr, 2, true, false),
+        (format!("RMSE after {seconds} s"), |r| r.errors.rmse, 4, false, false),
+        (format!("relMSE after {seconds} s"), |r| r.errors.relmse, 4, false, false),
         (
             format!(
                 "Efficiency 1 / (relMSE × seconds) after {seconds} s (of the mean relMSE × seconds; the interval is its reciprocal's)"
@@ -46,20 +49,24 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
             |r| r.errors.relmse * r.seconds,
             3,
             true,
+            true,
         ),
     ];
-    for (t, (title, value, decimals, higher)) in tables.iter().enumerate() {
+    for (t, (title, value, decimals, higher, reciprocal)) in tables.iter().enumerate() {
         let _ = writeln!(out, "### {title}\n\n| method |{header}\n|---|{rule}");
-        // The efficiency is the reciprocal of the mean relMSE × seconds (`Interval::reciprocal`).
-        let efficiency = t == tables.len() - 1;
         let cells: Vec<Vec<Option<Interval>>> = methods
             .iter()
             .map(|m| {
                 columns
                     .iter()
                     .map(|(s, v)| {
-                        final_interval(rows, s, *v, m, value)
-                            .map(|i| if efficiency { i.reciprocal() } else { i })
+                        final_interval(rows, s, *v, m, value).map(|i| {
+                            if *reciprocal {
+                                i.reciprocal()
+                            } else {
+                                i
+                            }
+                        })
                     })
                     .collect()
             })

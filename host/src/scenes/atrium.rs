@@ -1,8 +1,9 @@
 //! `atrium`: a courtyard open to the sky, lit only through its roof opening — a large sky
-//! panel above and a small bright sun hung under it (`super::sun_below_sky`) — with columns along two sides and a highly specular
-//! banner (Phong exponent 1e5) on the back wall that throws a caustic onto the floor. View 1
-//! looks across the sunlit court (mostly direct light); view 2 looks into the banner, which
-//! shows the court and its caustic by reflection (the hard, reflected-caustic case).
+//! panel above and a small bright sun hung under it (`super::sun_below_sky`) — with columns
+//! along two sides and a highly specular banner (Phong exponent 1e5) on the back wall that
+//! throws a caustic onto the floor. View 1 looks across the sunlit court (mostly direct light);
+//! view 2 looks into the banner, which shows the court and its caustic by reflection (the hard,
+//! reflected-caustic case).
 
 use glam::Vec3;
 
