@@ -22,6 +22,7 @@ fn settings(size: u32, max_depth: u32, mpp: f64, candidates: u32, bootstrap: u32
         bootstrap_samples: bootstrap,
         mutation: MutationParams::default(),
         image_step: None,
+        pixel_importance: true,
         shard: render::Shard::WHOLE,
         estimator: render::Estimator::Multiplexed,
     }

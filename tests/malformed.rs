@@ -181,6 +181,7 @@ fn attempt(bytes: &[u8]) -> Result<Result<(), String>, String> {
             bootstrap_samples: 256,
             mutation: Default::default(),
             image_step: None,
+            pixel_importance: true,
             shard: render::Shard::WHOLE,
             estimator: render::Estimator::Multiplexed,
         };

@@ -69,7 +69,7 @@ fn expected_weights(method: Method, c: &[f32]) -> Vec<f32> {
     }
 }
 
-/// A pixel importance that differs from pixel to pixel (0.5 to 1.36), so that the path
+/// A pixel importance that differs from pixel to pixel (0.5 to 1.36), so that each
 /// estimator's division by it is checked on both sides.
 fn importance(params: &RenderParams) -> Vec<f32> {
     (0..params.width * params.height).map(|j| 0.5 + (j % 7) as f32 / 7.0).collect()
@@ -107,6 +107,7 @@ impl<'a> Difftest<'a> {
             mutation: Default::default(),
             // The estimator's own image step (the path estimator's differs from s2).
             image_step: None,
+            pixel_importance: true,
             shard: render::Shard::WHOLE,
             estimator,
         };
@@ -444,6 +445,7 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
         bootstrap_samples: 64,
         mutation: Default::default(),
         image_step: None,
+        pixel_importance: true,
         shard: render::Shard::WHOLE,
         estimator: render::Estimator::Multiplexed,
     };
@@ -483,7 +485,15 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
                 (step(cand(0), cand(2)) - step(root, cand(1))).abs() < 1e-6,
                 "chain {p} dim {d}: level 2"
             );
-            assert!(d3.abs() <= 1.0 / 64.0 + 1e-6 && d3.abs() >= 1.0 / 1024.0 - 1e-6);
+            // Kelemen's s1..s2, or the image plane's own range for the raster position.
+            let m = base.mutation;
+            let raster = (m.image_dimension..m.image_dimension + 2).contains(&(d as u32));
+            let largest = if raster { m.image_s2 } else { m.s2 };
+            let smallest = largest * m.s1 / m.s2;
+            assert!(
+                d3.abs() <= largest + 1e-6 && d3.abs() >= smallest - 1e-6,
+                "chain {p} dim {d}: step {d3} outside {smallest}..{largest}"
+            );
         }
     }
     assert!(small > 20, "{small} chains without a large step");
@@ -516,6 +526,7 @@ fn every_pass_binds_what_its_kernel_declares() {
         bootstrap_samples: 192,
         mutation: Default::default(),
         image_step: None,
+        pixel_importance: true,
         shard: render::Shard::WHOLE,
         estimator: render::Estimator::Multiplexed,
     };
@@ -563,6 +574,7 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
             bootstrap_samples: 1,
             mutation: Default::default(),
             image_step: None,
+            pixel_importance: true,
             shard: render::Shard::WHOLE,
             estimator: render::Estimator::Multiplexed,
         };

@@ -26,6 +26,7 @@ fn candidates(scene: &SceneData, count: u32, max_depth: u32) -> (RenderParams, V
         bootstrap_samples: count,
         mutation: Default::default(),
         image_step: None,
+        pixel_importance: true,
         shard: render::Shard::WHOLE,
         estimator: render::Estimator::Multiplexed,
     };

@@ -122,6 +122,7 @@ fn the_reference_and_mmlt_agree_on_the_default_scene() {
                     bootstrap_samples: 1 << 17,
                     mutation: Default::default(),
                     image_step: None,
+                    pixel_importance: true,
                     shard: render::Shard::WHOLE,
                     estimator: render::Estimator::Multiplexed,
                 };

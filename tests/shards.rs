@@ -29,6 +29,7 @@ fn settings(method: &str, shard: Shard) -> Settings {
         bootstrap_samples: 8192,
         mutation: Default::default(),
         image_step: None,
+        pixel_importance: true,
         shard,
     }
 }
@@ -193,7 +194,8 @@ fn merges_of_parts_that_do_not_belong_together_are_refused() {
 /// b in the furnace: every method feeds the pooled estimator with its large steps (about
 /// p_large per chain and iteration for trees, p_large per proposal for reject chains), and b
 /// agrees with the analytic value within its own standard error; with `--p-large 0` nothing
-/// feeds it and b is the bootstrap's alone.
+/// feeds it and b is the bootstrap's alone. The luminance target (no pixel importance), whose
+/// b is the furnace's radiance times the depths a state spans.
 #[test]
 fn every_method_refines_b_with_its_large_steps() {
     let (rho, k) = (0.5, 3);
@@ -202,6 +204,7 @@ fn every_method_refines_b_with_its_large_steps() {
     for method in ["naive", "s3", "rc8"] {
         let mut s = settings(method, Shard::WHOLE);
         s.max_depth = k;
+        s.pixel_importance = false;
         s.bootstrap_samples = 4096;
         s.budget = Budget::MutationsPerPixel(256.0);
         let r = render_cpu(&scene, &s, 2);

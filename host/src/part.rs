@@ -56,6 +56,8 @@ pub struct Identity {
     pub p_large: f32,
     /// Largest small-step size of the image-plane position.
     pub image_s2: f32,
+    /// Whether the chains' target was divided by the pixel importance.
+    pub pixel_importance: bool,
     /// Budget: "mpp M" or "seconds T".
     pub budget: String,
     /// Shards the render was split into.
@@ -84,6 +86,7 @@ impl Identity {
             s2: s.mutation.s2,
             p_large: s.mutation.p_large,
             image_s2: s.mutation_params().image_s2,
+            pixel_importance: s.pixel_importance && s.method != crate::render::Method::PathTracer,
             budget: match s.budget {
                 crate::render::Budget::Seconds(t) => format!("seconds {t}"),
                 crate::render::Budget::MutationsPerPixel(m) => format!("mpp {m}"),
@@ -114,6 +117,7 @@ impl Identity {
             "s2",
             "p_large",
             "image_s2",
+            "pixel_importance",
             "budget",
             "shard_count",
             "smlt_version",

@@ -126,6 +126,7 @@ pub fn render_reference(
         bootstrap_samples: 1,
         mutation: Default::default(),
         image_step: None,
+        pixel_importance: true,
         shard: Shard::WHOLE,
     };
     let params = base_params(scene, &settings);

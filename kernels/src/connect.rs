@@ -43,7 +43,7 @@ pub fn connect<R: RayCaster>(
         return;
     }
     let connection = connect_candidate(params, scene, cand_u, samples, &paths[k as usize], vertices);
-    contributions[k as usize] = pack_connection(&connection);
+    contributions[k as usize] = pack_connection(&connection, importance);
 }
 
 /// Entry point: one invocation per candidate.

@@ -69,9 +69,12 @@ pub struct BenchSettings {
     pub out: PathBuf,
     /// The Metropolis methods' mutation schedule.
     pub mutation: MutationParams,
-    /// Largest small step of the image-plane position, for every method (None: each
-    /// estimator's [`crate::render::Estimator::image_step`]).
+    /// Largest small step of the image-plane position, for every method (None:
+    /// [`crate::render::DEFAULT_IMAGE_STEP`]).
     pub image_step: Option<f32>,
+    /// Whether the Metropolis methods' targets are divided by the pixel importance
+    /// ([`crate::render::Settings::pixel_importance`]).
+    pub pixel_importance: bool,
 }
 
 /// The render times at which every method is measured: 1, 2, 4, … below `seconds`, and `seconds`.
@@ -201,6 +204,7 @@ fn equal_time(
             bootstrap_samples: render::DEFAULT_BOOTSTRAP,
             mutation: b.mutation,
             image_step: b.image_step,
+            pixel_importance: b.pixel_importance,
             shard: render::Shard::WHOLE,
         })
         .collect();

@@ -182,6 +182,7 @@ mod tests {
             out: "out".into(),
             mutation: Default::default(),
             image_step: None,
+            pixel_importance: true,
         };
         let noises = [("cornell".to_string(), 1, Some(0.01))];
         assert!(reference_table(&b, &[], &noises).contains("### References (512 spp;"));

@@ -70,9 +70,13 @@ pub struct Args {
     #[arg(long, default_value_t = MutationParams::default().p_large, value_parser = unit_f32)]
     pub p_large: f32,
     /// Largest small step of the image-plane position, for every Metropolis method (as `smlt
-    /// render --image-step`; default: each estimator's own).
+    /// render --image-step`; default 1/16).
     #[arg(long, value_parser = step_f32)]
     pub image_step: Option<f32>,
+    /// Every Metropolis method's target is the luminance of its contributions (as `smlt render
+    /// --no-pixel-importance`).
+    #[arg(long)]
+    pub no_pixel_importance: bool,
 }
 
 /// Runs `smlt bench`.
@@ -97,6 +101,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         out: a.out.clone(),
         mutation: MutationParams { p_large: a.p_large, ..Default::default() },
         image_step: a.image_step,
+        pixel_importance: !a.no_pixel_importance,
     };
     crate::bench::run(&settings, device.gpu.as_ref(), |line| println!("{line}"))?;
     println!("wrote {}/results.csv and {}/tables.md", a.out.display(), a.out.display());

@@ -64,10 +64,15 @@ pub struct Args {
     /// Probability of a large step.
     #[arg(long, default_value_t = MutationParams::default().p_large, value_parser = unit_f32)]
     pub p_large: f32,
-    /// Largest small step of the image-plane position, as a fraction of the image (default 1/16
-    /// for path-… methods, 1/64 — Kelemen's s2, as every other dimension — for the others).
+    /// Largest small step of the image-plane position, as a fraction of the image (default 1/16;
+    /// every other dimension's is 1/64, Kelemen's s2; 0.015625 is the seed's schedule).
     #[arg(long, value_parser = step_f32)]
     pub image_step: Option<f32>,
+    /// Chains follow the luminance of each contribution (the seed's target) instead of dividing
+    /// it by the pixel importance, a 4-spp estimate of each pixel's luminance that gives every
+    /// pixel about the same share of the steps. The same image either way, less even noise.
+    #[arg(long)]
+    pub no_pixel_importance: bool,
     /// Write the image so far every this many seconds (Ctrl-C always writes it once more).
     #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
     pub checkpoint: Option<f64>,
@@ -154,6 +159,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         bootstrap_samples: a.bootstrap,
         mutation: MutationParams { p_large: a.p_large, ..Default::default() },
         image_step: a.image_step,
+        pixel_importance: !a.no_pixel_importance,
         shard: a.shard.unwrap_or(Shard::WHOLE),
     };
     if settings.method != Method::PathTracer && settings.shard.count > settings.chains() {

@@ -148,7 +148,7 @@ pub struct DeviceBuffers<S: Storage> {
     pub scene: SceneBuffers<S>,
     /// The f32 image as bits, rgb per pixel.
     pub image: S::Of<u32>,
-    /// Ĩ per pixel, the path estimator's pixel importance (`shared::pssmlt`; ones until the
+    /// Ĩ per pixel, the pixel importance (`crate::render::importance`; ones until the
     /// render sets it).
     pub importance: S::Of<f32>,
 }

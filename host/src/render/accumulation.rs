@@ -53,7 +53,7 @@ impl Accumulation {
     }
 
     /// Adds `other` with each pixel's sums multiplied by its weight (`weights`, one a pixel:
-    /// the path estimator's pixel importance Ĩ), and empties `other` for the next drain
+    /// the pixel importance Ĩ), and empties `other` for the next drain
     /// (keeping its buffer).
     pub fn merge_weighted(&mut self, other: &mut Accumulation, weights: &[f32]) {
         assert_eq!(self.image.len(), other.image.len(), "accumulations of one image size");

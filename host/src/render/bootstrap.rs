@@ -40,7 +40,7 @@ pub struct Bootstrap {
 }
 
 /// Traces `max(bootstrap samples, chains)` samples on the current rayon pool and starts the
-/// shard's chains; the path estimator's contributions are divided by the pixel importance
+/// shard's chains; the contributions are divided by the pixel importance
 /// `importance` (`super::importance`).
 pub fn bootstrap(scene: &SceneData, s: &Settings, importance: &[f32]) -> Result<Bootstrap, RenderError> {
     let start = Instant::now();

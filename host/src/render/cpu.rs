@@ -34,7 +34,7 @@ pub struct CpuBuffers<'a, R> {
     scene: Scene<'a, R>,
     /// What the stages read and write.
     pub iteration: IterationBuffers<OnHost>,
-    /// Ĩ per pixel (the path estimator's pixel importance), shared by every group.
+    /// Ĩ per pixel (the pixel importance), shared by every group.
     pub importance: Arc<[f32]>,
 }
 

@@ -6,7 +6,6 @@
 use std::str::FromStr;
 
 use shared::mmlt::{ESTIMATOR_MULTIPLEXED, ESTIMATOR_PATH};
-use shared::mutation::MutationParams;
 
 use super::Method;
 
@@ -28,20 +27,6 @@ impl Estimator {
         match self {
             Estimator::Multiplexed => ESTIMATOR_MULTIPLEXED,
             Estimator::Path => ESTIMATOR_PATH,
-        }
-    }
-
-    /// The default largest small step of the image-plane position, as a fraction of the image
-    /// (`MutationParams::image_s2`; `--image-step` overrides it). The seed's estimator keeps
-    /// Kelemen's s2 = 1/64 of every dimension, so its images and tables stay as they were; the
-    /// path estimator moves its raster position up to 1/16 of the image (LuxCore's Metropolis
-    /// sampler moves it up to 1/10 by default), measured 12–18 % lower relMSE at equal time
-    /// than 1/64 on Sibenik, Sponza, the banner view and `sunblind`
-    /// (`results/cpu-path/image_step/`).
-    pub fn image_step(self) -> f32 {
-        match self {
-            Estimator::Multiplexed => MutationParams::default().s2,
-            Estimator::Path => 1.0 / 16.0,
         }
     }
 }

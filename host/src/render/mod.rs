@@ -18,7 +18,7 @@ pub use method::Method;
 pub use renderer::{normalisation, render, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};
 pub use settings::{
     base_params, default_candidates, path_params, reference_params, Budget, Settings, Shard,
-    DEFAULT_BOOTSTRAP, DEFAULT_MAX_DEPTH, DEFAULT_MUTATIONS_PER_PIXEL, DEFAULT_WIDTH,
+    DEFAULT_BOOTSTRAP, DEFAULT_IMAGE_STEP, DEFAULT_MAX_DEPTH, DEFAULT_MUTATIONS_PER_PIXEL, DEFAULT_WIDTH,
 };
 
 use shared::mmlt::{ChainState, RenderParams};

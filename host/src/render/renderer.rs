@@ -16,9 +16,7 @@ use shared::path_tracer::ReferenceParams;
 
 use super::bootstrap::{bootstrap, Bootstrap};
 use super::importance::pixel_importance;
-use super::{
-    base_params, path_params, Accumulation, Backend, Budget, Estimator, Method, RenderError, Settings,
-};
+use super::{base_params, path_params, Accumulation, Backend, Budget, Method, RenderError, Settings};
 use crate::scene::SceneData;
 
 /// What a render measured.
@@ -49,7 +47,7 @@ pub struct Stats {
     pub compile_seconds: Option<f64>,
     /// Seconds of the bootstrap.
     pub bootstrap_seconds: f64,
-    /// Seconds of the path estimator's pixel importance (`super::importance`), before the
+    /// Seconds of the pixel importance (`super::importance`), before the
     /// clock like the bootstrap; None for the other methods.
     pub importance_seconds: Option<f64>,
     /// Seconds of the iterations (what `--time` counts).
@@ -172,8 +170,8 @@ pub struct Renderer<'a> {
     /// The path tracer's `reference` rounds' parameters (`--method pt`), None for the
     /// Metropolis methods.
     reference: Option<ReferenceParams>,
-    /// The path estimator's pixel importance Ĩ, which the drained sums are multiplied by, and
-    /// the accumulation they are drained into first.
+    /// The pixel importance Ĩ (None with `--no-pixel-importance`), which the drained sums are
+    /// multiplied by, and the accumulation they are drained into first.
     importance: Option<(Vec<f32>, Accumulation)>,
     bootstrap: Moments,
     acc: Accumulation,
@@ -182,8 +180,8 @@ pub struct Renderer<'a> {
 }
 
 impl<'a> Renderer<'a> {
-    /// Prepares the backend's kernels (telling `observer`), makes the path estimator's pixel
-    /// importance and bootstraps (on the host: the same for every shard and device) and starts
+    /// Prepares the backend's kernels (telling `observer`), makes the pixel importance and
+    /// bootstraps (on the host: the same for every shard and device) and starts
     /// this shard's chains. None of it counts as render time. The path tracer only prepares
     /// its kernel.
     pub fn start(
@@ -211,13 +209,14 @@ impl<'a> Renderer<'a> {
         let pixels = s.width as usize * s.height as usize;
         let mut importance = None;
         if reference.is_none() {
-            // On the backend's pool: the pixel importance (the path estimator's; ones for the
-            // multiplexed one), then the bootstrap that uses it.
+            // On the backend's pool: the pixel importance (ones without it), then the bootstrap
+            // that uses it.
             let prepare = || -> Result<(Bootstrap, Vec<f32>, Option<f64>), RenderError> {
                 let begin = Instant::now();
-                let (weights, seconds) = match s.estimator {
-                    Estimator::Path => (pixel_importance(scene, s), Some(begin.elapsed().as_secs_f64())),
-                    Estimator::Multiplexed => (vec![1.0; pixels], None),
+                let (weights, seconds) = if s.pixel_importance {
+                    (pixel_importance(scene, s), Some(begin.elapsed().as_secs_f64()))
+                } else {
+                    (vec![1.0; pixels], None)
                 };
                 Ok((bootstrap(scene, s, &weights)?, weights, seconds))
             };
@@ -226,7 +225,7 @@ impl<'a> Renderer<'a> {
                 None => prepare()?,
             };
             backend.start(&boot.chain_u, &boot.chains, &weights)?;
-            importance = (s.estimator == Estimator::Path).then(|| (weights, Accumulation::new(pixels)));
+            importance = s.pixel_importance.then(|| (weights, Accumulation::new(pixels)));
             stats.chains = base.chains;
             stats.bootstrap_seconds = boot.seconds;
             stats.importance_seconds = importance_seconds;

@@ -262,8 +262,11 @@ fn mis_weight<R: RayCaster>(
     1.0 / (1.0 + sum)
 }
 
-/// Packs a connection for the contribution buffer: F (rgb) and the pixel's bits.
+/// Packs a connection for the contribution buffer: F divided by the pixel importance Ĩ of the
+/// pixel it lands on (`importance`, one value a pixel; ones leave F bit for bit), and the
+/// pixel's bits.
 #[inline]
-pub fn pack_connection(c: &Connection) -> Vec4 {
-    pack_contribution(c.contribution, 1.0, c.pixel)
+pub fn pack_connection(c: &Connection, importance: &[f32]) -> Vec4 {
+    let weight = if (c.pixel as usize) < importance.len() { 1.0 / importance[c.pixel as usize] } else { 1.0 };
+    pack_contribution(c.contribution, weight, c.pixel)
 }

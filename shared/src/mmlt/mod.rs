@@ -4,7 +4,11 @@
 //! t = k + 2 − s vertices, traces both, connects only their end points, and weighs the result
 //! with the balance heuristic over all k + 2 techniques:
 //!
-//! `F(u) = f(x̄) · w_s(x̄) · (k + 2) / p_s(x̄)`, scalar target `c(u) = luminance(F)`.
+//! `F(u) = f(x̄) · w_s(x̄) · (k + 2) / p_s(x̄)`, scalar target `c(u) = luminance(F)/Ĩ_j`,
+//!
+//! with Ĩ_j the pixel importance of the pixel j it lands on ([`pack_connection`]; as the path
+//! estimator's, `crate::pssmlt`): every pixel gets about the same share of the chains' steps.
+//! All Ĩ_j = 1 is the seed's target, the luminance (`smlt render --no-pixel-importance`).
 //!
 //! The technique is chosen by u[0] (so mutations can change it). s = 1 resamples the light
 //! point with its own samples and t = 1 connects to the pinhole, landing on the pixel the
