@@ -105,7 +105,7 @@ impl<'a> Difftest<'a> {
             candidates: 2048,
             bootstrap_samples: 2048,
             mutation: Default::default(),
-            // The estimator's own image step (the path estimator's differs from s2).
+            // The default image step (1/16, unlike s2).
             image_step: None,
             pixel_importance: true,
             shard: render::Shard::WHOLE,

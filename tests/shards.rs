@@ -160,12 +160,13 @@ fn merges_of_parts_that_do_not_belong_together_are_refused() {
         .contains("given twice"));
     let mut other = good.clone();
     type Change = fn(&mut Settings);
-    let variants: [(&str, Change); 5] = [
+    let variants: [(&str, Change); 6] = [
         ("seed 5 vs 6", |s| s.seed = 6),
         ("method", |s| s.method = Method::Tree(2)),
         ("width 20 vs 22", |s| s.width = 22),
         ("max depth", |s| s.max_depth = 3),
         ("candidates", |s| s.candidates = 1024),
+        ("pixel importance", |s| s.pixel_importance = false),
     ];
     for (needle, change) in variants {
         let mut t = s.clone();

@@ -4,9 +4,8 @@
 //! (to look at); the exact f64 splat sums S are stored bit for bit as two `u32` channels per
 //! colour (`S.R.hi`, `S.R.lo`, …); a layer attribute `smltPart` holds, as JSON, everything
 //! else a merge needs: the render's identity (scene and its hash, view, resolution, depth,
-//! seed, method, chain count, bootstrap, mutation schedule, budget, shard count, the smlt
-//! version and the kernels module's hash), the shard
-//! index, W, the acceptance and NaN/Inf tallies, the candidates traced, and the moments of the
+//! seed, method, chain count, bootstrap, mutation schedule, pixel importance, budget, shard
+//! count, the smlt version and the kernels module's hash), the shard index, W, the acceptance and NaN/Inf tallies, the candidates traced, and the moments of the
 //! bootstrap's and the large steps' targets (f64 values as their bit patterns, so nothing is
 //! rounded on the way), and a checksum over the header and the sums: a part changed after it was
 //! written (a digit of its JSON edited, a bit of a sum flipped) is refused by name. Merging adds the accumulations in shard order and normalises once:
@@ -21,7 +20,7 @@ use shared::normalisation::Moments;
 use crate::render::{Accumulation, Method, Rendered, Sampler, Settings, Shard, Stats};
 
 /// The `format` value of a part written by this version.
-pub const FORMAT: &str = "smlt-part-3";
+pub const FORMAT: &str = "smlt-part-4";
 /// The layer attribute holding the part's JSON.
 const ATTRIBUTE: &str = "smltPart";
 

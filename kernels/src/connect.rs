@@ -1,9 +1,9 @@
 //! The `connect` pass: one invocation per candidate connects the end points of its subpaths
 //! with one shadow ray, weighs the path with the balance heuristic, and stores the packed
-//! contribution (F in rgb, the pixel index as the bits of w; seed §5.3). For the path
-//! estimator it traces the candidate's whole path instead (`shared::pssmlt::path_candidate`),
-//! divided by its pixel's importance, and stores as the candidate's depth how many vertices'
-//! uniforms the path read (what `mutate` perturbs of the state it moves to).
+//! contribution (F divided by its pixel's importance in rgb, the pixel index as the bits of w;
+//! seed §5.3). For the path estimator it traces the candidate's whole path instead
+//! (`shared::pssmlt::path_candidate`), divided the same way, and stores as the candidate's depth
+//! how many vertices' uniforms the path read (what `mutate` perturbs of the state it moves to).
 
 use shared::bsdf::Material;
 use shared::cwbvh::{WideBvh, WideNode};

@@ -1,5 +1,5 @@
 //! The `connect` pass: binds params, candidate samples, the scene, vertices and path infos,
-//! writes the packed contributions, and reads the pixel importance (the path estimator's); the
+//! writes the packed contributions, and reads the pixel importance they are divided by; the
 //! path estimator also writes each candidate's depth (the vertices its path read).
 
 use glam::Vec4;

@@ -1,6 +1,6 @@
-//! The pixel importance Ĩ (`shared::pssmlt`, `shared::mmlt::pack_connection`): a short path-traced estimate of
-//! every pixel's luminance, smoothed and mixed with its mean, made on the host before the chains start.
-//! Like the bootstrap it casts its rays through the device's own traversal and its samples are
+//! The pixel importance Ĩ (`shared::pssmlt`, `shared::mmlt::pack_connection`): a short
+//! path-traced estimate of every pixel's luminance, smoothed and mixed with its mean, made on the
+//! host before the chains start. Like the bootstrap it casts its rays through the device's own traversal and its samples are
 //! keyed by the seed alone, so every shard of a render, on any machine, uses the very same Ĩ.
 //! Ĩ only reshapes the chains' target: any positive Ĩ gives the same image.
 
@@ -13,6 +13,10 @@ use crate::scene::SceneData;
 
 /// Samples per pixel of the estimate.
 pub const IMPORTANCE_SPP: u32 = 4;
+/// The estimate's round: its sample numbers start at 2^31, which no render of the path tracer
+/// (numbered from 0) reaches, so it is independent of `--method pt` and of references.
+const IMPORTANCE_ROUND: u32 = (1 << 31) / IMPORTANCE_SPP;
+
 /// What is added to the estimate, as a fraction of the image's mean (a defensive mixture),
 /// for chains of `estimator`: pixels much brighter than that get about equal shares of the
 /// chains' steps, pixels much darker a share in proportion to their light, and a pixel the
@@ -29,13 +33,10 @@ pub fn importance_mix(estimator: Estimator) -> f32 {
         Estimator::Multiplexed => 4.0,
     }
 }
-/// The estimate's round: its sample numbers start at 2^31, which no render of the path tracer
-/// (numbered from 0) reaches, so it is independent of `--method pt` and of references.
-const IMPORTANCE_ROUND: u32 = (1 << 31) / IMPORTANCE_SPP;
 
 /// Ĩ for a render with settings `s`: [`IMPORTANCE_SPP`] path-traced samples of every pixel on
 /// the current rayon pool, then [`smooth_and_mix`].
-pub fn pixel_importance(scene: &SceneData, s: &Settings) -> Vec<f32> {
+pub fn estimate_pixel_importance(scene: &SceneData, s: &Settings) -> Vec<f32> {
     let params = ReferenceParams {
         samples: IMPORTANCE_SPP,
         samples_per_round: IMPORTANCE_SPP,

@@ -62,7 +62,7 @@ pub trait Backend {
     /// image that the next [`Backend::drain`] moves.
     fn trace_reference_round(&mut self, params: &ReferenceParams) -> Result<(), RenderError>;
     /// Sets the chains' samples (SoA) and states, and the pixel importance Ĩ their contributions
-    /// are divided by (the path estimator's; ones for the multiplexed one, which ignores it).
+    /// are divided by (ones with `--no-pixel-importance`).
     fn start(
         &mut self,
         chain_u: &[f32],

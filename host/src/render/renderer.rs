@@ -15,7 +15,7 @@ use shared::normalisation::{estimate, Estimate, Moments};
 use shared::path_tracer::ReferenceParams;
 
 use super::bootstrap::{bootstrap, Bootstrap};
-use super::importance::pixel_importance;
+use super::importance::estimate_pixel_importance;
 use super::{base_params, path_params, Accumulation, Backend, Budget, Method, RenderError, Settings};
 use crate::scene::SceneData;
 
@@ -47,8 +47,8 @@ pub struct Stats {
     pub compile_seconds: Option<f64>,
     /// Seconds of the bootstrap.
     pub bootstrap_seconds: f64,
-    /// Seconds of the pixel importance (`super::importance`), before the
-    /// clock like the bootstrap; None for the other methods.
+    /// Seconds of the pixel importance (`super::importance`), before the clock like the
+    /// bootstrap; None for `pt` and with `--no-pixel-importance`.
     pub importance_seconds: Option<f64>,
     /// Seconds of the iterations (what `--time` counts).
     pub render_seconds: f64,
@@ -214,7 +214,7 @@ impl<'a> Renderer<'a> {
             let prepare = || -> Result<(Bootstrap, Vec<f32>, Option<f64>), RenderError> {
                 let begin = Instant::now();
                 let (weights, seconds) = if s.pixel_importance {
-                    (pixel_importance(scene, s), Some(begin.elapsed().as_secs_f64()))
+                    (estimate_pixel_importance(scene, s), Some(begin.elapsed().as_secs_f64()))
                 } else {
                     (vec![1.0; pixels], None)
                 };
@@ -273,8 +273,8 @@ impl<'a> Renderer<'a> {
         Ok(())
     }
 
-    /// Moves the backend's splats and tallies into the accumulation (the path estimator's
-    /// sums times each pixel's Ĩ).
+    /// Moves the backend's splats and tallies into the accumulation (the sums times each
+    /// pixel's Ĩ).
     fn drain(&mut self) -> Result<(), RenderError> {
         match &mut self.importance {
             Some((importance, drained)) => {

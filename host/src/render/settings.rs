@@ -25,7 +25,7 @@ pub const DEFAULT_BOOTSTRAP: u32 = 65536;
 /// With 1/64 a chain stays in a pixel or two for several steps and a pixel's splats come in
 /// clumps; LuxCore's Metropolis sampler moves its image dimensions up to 1/10. Measured at
 /// equal time against 1/64: 12–18 % lower relMSE for the path estimator on Sibenik, Sponza,
-/// the banner view and `sunblind` (`results/cpu-path/image_step/`), and 1.2–1.8× the
+/// the banner view and `sunblind` (`results/cpu-path/image_step/`), and 1.15–1.76× the
 /// efficiency for the multiplexed one on six of seven views (`results/cpu-path/mmlt_target/`).
 /// `--image-step 0.015625` restores the seed's schedule.
 pub const DEFAULT_IMAGE_STEP: f32 = 1.0 / 16.0;
