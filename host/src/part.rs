@@ -2,14 +2,15 @@
 //!
 //! A part is an OpenEXR file. Its `R`, `G`, `B` channels hold the part's own normalised image
 //! (to look at); the exact f64 splat sums S are stored bit for bit as two `u32` channels per
-//! colour (`S.R.hi`, `S.R.lo`, …); a layer attribute `smltPart` holds, as JSON, everything
-//! else a merge needs: the render's identity (scene and its hash, view, resolution, depth,
-//! seed, method, chain count, bootstrap, mutation schedule, pixel importance, budget, shard
-//! count, the smlt version and the kernels module's hash), the shard index, W, the acceptance and NaN/Inf tallies, the candidates traced, and the moments of the
-//! bootstrap's and the large steps' targets (f64 values as their bit patterns, so nothing is
-//! rounded on the way), and a checksum over the header and the sums: a part changed after it was
-//! written (a digit of its JSON edited, a bit of a sum flipped) is refused by name. Merging adds the accumulations in shard order and normalises once:
-//! the image the unsplit render gives, up to f64 rounding.
+//! colour (`S.R.hi`, `S.R.lo`, …); a layer attribute `smltPart` holds, as JSON, everything else
+//! a merge needs: the render's identity (scene and its hash, view, resolution, depth, seed,
+//! method, chain count, bootstrap, mutation schedule, pixel importance, budget, shard count,
+//! the smlt version and the kernels module's hash), the shard index, W, the acceptance and
+//! NaN/Inf tallies, the candidates traced, and the moments of the bootstrap's and the large
+//! steps' targets (f64 values as their bit patterns, so nothing is rounded on the way), and a
+//! checksum over the header and the sums: a part changed after it was written (a digit of its
+//! JSON edited, a bit of a sum flipped) is refused by name. Merging adds the accumulations in
+//! shard order and normalises once: the image the unsplit render gives, up to f64 rounding.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

@@ -7,10 +7,9 @@
 
 use shared::bsdf::Material;
 use shared::cwbvh::{WideBvh, WideNode};
+use shared::layout::pack_over_importance;
 use shared::light::LightEntry;
-use shared::mmlt::{
-    connect_candidate, pack_connection, PathInfo, PathVertex, RenderParams, Samples, ESTIMATOR_PATH,
-};
+use shared::mmlt::{connect_candidate, PathInfo, PathVertex, RenderParams, Samples, ESTIMATOR_PATH};
 use shared::pssmlt::path_candidate;
 use shared::ray_caster::RayCaster;
 use shared::scene::Scene;
@@ -43,7 +42,7 @@ pub fn connect<R: RayCaster>(
         return;
     }
     let connection = connect_candidate(params, scene, cand_u, samples, &paths[k as usize], vertices);
-    contributions[k as usize] = pack_connection(&connection, importance);
+    contributions[k as usize] = pack_over_importance(connection.contribution, connection.pixel, importance);
 }
 
 /// Entry point: one invocation per candidate.

@@ -65,6 +65,17 @@ pub fn pack_contribution(rgb: Vec3, weight: f32, pixel: u32) -> Vec4 {
     (rgb * weight).extend(f32::from_bits(pixel))
 }
 
+/// Packs `rgb` divided by the pixel importance Ĩ of `pixel` (`importance`, one value a pixel)
+/// and the pixel's bits: the chains' target is then luminance(rgb)/Ĩ, every pixel getting
+/// about the same share of their steps, and the host multiplies the pixel's drained sums by Ĩ
+/// (any positive Ĩ gives the same image). Ones leave `rgb` bit for bit; a pixel outside
+/// `importance` keeps it too (none is made; the guard keeps a kernel in bounds).
+#[inline]
+pub fn pack_over_importance(rgb: Vec3, pixel: u32, importance: &[f32]) -> Vec4 {
+    let weight = if (pixel as usize) < importance.len() { 1.0 / importance[pixel as usize] } else { 1.0 };
+    pack_contribution(rgb, weight, pixel)
+}
+
 /// The inverse of [`pack_contribution`]: (rgb · weight, pixel index).
 #[inline]
 pub fn unpack_contribution(packed: Vec4) -> (Vec3, u32) {
@@ -117,6 +128,17 @@ mod tests {
         assert_eq!(buffer[soa_index(1, 0, units)], -1.0);
         assert_eq!(load_group(&buffer, 2, 1, units, variables), Vec4::new(5.0, 6.0, 0.0, 0.0));
         assert_eq!(load_group(&buffer, 2, 0, units, variables), Vec4::new(1.0, 2.0, 3.0, 4.0));
+    }
+
+    /// A contribution is divided by the importance of its pixel, ones leave it bit for bit, and
+    /// a pixel outside the buffer keeps it.
+    #[test]
+    fn a_contribution_is_divided_by_its_pixels_importance() {
+        let rgb = Vec3::new(0.3, 1.7, 1e-3);
+        assert_eq!(unpack_contribution(pack_over_importance(rgb, 2, &[1.0, 1.0, 0.25, 1.0])), (rgb * 4.0, 2));
+        let (back, _) = unpack_contribution(pack_over_importance(rgb, 2, &[1.0; 4]));
+        assert_eq!(back.to_array().map(f32::to_bits), rgb.to_array().map(f32::to_bits));
+        assert_eq!(unpack_contribution(pack_over_importance(rgb, NO_PIXEL, &[0.25; 4])), (rgb, NO_PIXEL));
     }
 
     /// Every pixel index survives the trip through a float's bits, the ones that are

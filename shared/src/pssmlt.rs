@@ -26,7 +26,7 @@
 
 use glam::{Vec2, Vec4};
 
-use crate::layout::pack_contribution;
+use crate::layout::pack_over_importance;
 use crate::mmlt::{RenderParams, Samples};
 use crate::path_tracer::{trace_path, PathSamples, PathSettings};
 use crate::ray_caster::RayCaster;
@@ -99,7 +99,7 @@ pub fn path_candidate<R: RayCaster>(
     let settings = PathSettings::from(params);
     let path = trace_path(&settings, scene, (x, y), &chain);
     let pixel = cam.pixel(x, y);
-    (pack_contribution(path.radiance, 1.0 / importance[pixel as usize], pixel), path.vertices)
+    (pack_over_importance(path.radiance, pixel, importance), path.vertices)
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]

@@ -57,19 +57,9 @@ impl Interval {
         Interval { mean: inv(self.mean), low: inv(self.high), high: inv(self.low), n: self.n }
     }
 
-    /// Lower end of the interval.
-    pub fn low(&self) -> f64 {
-        self.low
-    }
-
-    /// Upper end of the interval.
-    pub fn high(&self) -> f64 {
-        self.high
-    }
-
     /// Whether the two intervals share no point.
     pub fn separated_from(&self, other: &Interval) -> bool {
-        self.high() < other.low() || other.high() < self.low()
+        self.high < other.low || other.high < self.low
     }
 
     /// "mean ± half-width" for a symmetric interval, "mean (low–high)" for another (the
@@ -134,7 +124,7 @@ mod tests {
             // Means of 12 uniforms are near normal: mean 6, variance 1.
             let values: Vec<f64> = (0..4).map(|_| (0..12).map(|_| uniform()).sum::<f64>()).collect();
             let i = Interval::of(&values);
-            if i.low() <= 6.0 && 6.0 <= i.high() {
+            if i.low <= 6.0 && 6.0 <= i.high {
                 covered += 1;
             }
         }

@@ -101,8 +101,8 @@ pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::
     for (t, e) in curves.iter().flatten() {
         t0 = t0.min(*t);
         t1 = t1.max(*t);
-        e0 = e0.min(e.low().max(e.mean * 0.5));
-        e1 = e1.max(e.high());
+        e0 = e0.min(e.low.max(e.mean * 0.5));
+        e1 = e1.max(e.high);
     }
     let root = BitMapBackend::new(path, (900, 560)).into_drawing_area();
     root.fill(&WHITE)?;
@@ -132,7 +132,7 @@ pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::
             .label(m.to_string())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
         chart.draw_series(curve.iter().filter(|(_, e)| e.n > 1).map(|(t, e)| {
-            ErrorBar::new_vertical(*t, e.low().max(e0), e.mean, e.high(), colour.stroke_width(1), 6)
+            ErrorBar::new_vertical(*t, e.low.max(e0), e.mean, e.high, colour.stroke_width(1), 6)
         }))?;
     }
     chart.configure_series_labels().background_style(WHITE.mix(0.85)).border_style(BLACK).draw()?;

@@ -57,18 +57,8 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
         let cells: Vec<Vec<Option<Interval>>> = methods
             .iter()
             .map(|m| {
-                columns
-                    .iter()
-                    .map(|(s, v)| {
-                        final_interval(rows, s, *v, m, value).map(|i| {
-                            if *reciprocal {
-                                i.reciprocal()
-                            } else {
-                                i
-                            }
-                        })
-                    })
-                    .collect()
+                let shown = |i: Interval| if *reciprocal { i.reciprocal() } else { i };
+                columns.iter().map(|(s, v)| final_interval(rows, s, *v, m, value).map(shown)).collect()
             })
             .collect();
         let best: Vec<Option<usize>> = (0..columns.len())

@@ -1,8 +1,9 @@
-//! The pixel importance Ĩ (`shared::pssmlt`, `shared::mmlt::pack_connection`): a short
-//! path-traced estimate of every pixel's luminance, smoothed and mixed with its mean, made on the
-//! host before the chains start. Like the bootstrap it casts its rays through the device's own traversal and its samples are
-//! keyed by the seed alone, so every shard of a render, on any machine, uses the very same Ĩ.
-//! Ĩ only reshapes the chains' target: any positive Ĩ gives the same image.
+//! The pixel importance Ĩ (`shared::layout::pack_over_importance`): a short path-traced
+//! estimate of every pixel's luminance, smoothed and mixed with its mean, made on the host
+//! before the chains start. Like the bootstrap it casts its rays through the device's own
+//! traversal and its samples are keyed by the seed alone, so every shard of a render, on any
+//! machine, uses the very same Ĩ. Ĩ only reshapes the chains' target: any positive Ĩ gives the
+//! same image.
 
 use rayon::prelude::*;
 use shared::mmlt::luminance;

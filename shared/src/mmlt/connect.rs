@@ -6,11 +6,11 @@
 use spirv_std::num_traits::Float;
 
 use core::f32::consts::PI;
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 
 use crate::bsdf::{bsdf_eval, bsdf_pdf};
 use crate::camera::Camera;
-use crate::layout::{pack_contribution, soa_index};
+use crate::layout::soa_index;
 use crate::light::emitted;
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
@@ -260,13 +260,4 @@ fn mis_weight<R: RayCaster>(
         sum += ri;
     }
     1.0 / (1.0 + sum)
-}
-
-/// Packs a connection for the contribution buffer: F divided by the pixel importance Ĩ of the
-/// pixel it lands on (`importance`, one value a pixel; ones leave F bit for bit), and the
-/// pixel's bits.
-#[inline]
-pub fn pack_connection(c: &Connection, importance: &[f32]) -> Vec4 {
-    let weight = if (c.pixel as usize) < importance.len() { 1.0 / importance[c.pixel as usize] } else { 1.0 };
-    pack_contribution(c.contribution, weight, c.pixel)
 }

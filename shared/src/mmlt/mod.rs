@@ -6,8 +6,8 @@
 //!
 //! `F(u) = f(x̄) · w_s(x̄) · (k + 2) / p_s(x̄)`, scalar target `c(u) = luminance(F)/Ĩ_j`,
 //!
-//! with Ĩ_j the pixel importance of the pixel j it lands on ([`pack_connection`]; as the path
-//! estimator's, `crate::pssmlt`): every pixel gets about the same share of the chains' steps.
+//! with Ĩ_j the pixel importance of the pixel j it lands on
+//! ([`crate::layout::pack_over_importance`], as the path estimator's): every pixel gets about the same share of the chains' steps.
 //! All Ĩ_j = 1 is the seed's target, the luminance (`smlt render --no-pixel-importance`).
 //!
 //! The technique is chosen by u[0] (so mutations can change it). s = 1 resamples the light

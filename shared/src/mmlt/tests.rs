@@ -70,21 +70,3 @@ fn only_the_path_estimator_refreshes_unread_groups() {
     let multiplexed = RenderParams { estimator: ESTIMATOR_MULTIPLEXED, max_depth: 10, ..Default::default() };
     assert!((0..16).all(|g| (0..=10).all(|d| !multiplexed.refreshes_group(g, d))));
 }
-
-/// A connection is divided by the importance of the pixel it lands on, ones leave it bit for
-/// bit, and a pixel index outside the buffer (none is made; the guard keeps the kernel in
-/// bounds) keeps F.
-#[test]
-fn a_connection_is_divided_by_its_pixels_importance() {
-    use crate::layout::unpack_contribution;
-    let c = Connection { contribution: Vec3::new(0.3, 1.7, 1e-3), pixel: 2, mis_weight: 0.5 };
-    let (rgb, pixel) = unpack_contribution(pack_connection(&c, &[1.0, 1.0, 0.25, 1.0]));
-    assert_eq!((rgb, pixel), (c.contribution * 4.0, 2));
-    let (rgb, _) = unpack_contribution(pack_connection(&c, &[1.0; 4]));
-    assert_eq!(rgb.to_array().map(f32::to_bits), c.contribution.to_array().map(f32::to_bits));
-    let off = Connection { pixel: crate::layout::NO_PIXEL, ..c };
-    assert_eq!(
-        unpack_contribution(pack_connection(&off, &[0.25; 4])),
-        (c.contribution, crate::layout::NO_PIXEL)
-    );
-}
