@@ -6,32 +6,34 @@ mod common;
 
 use common::scenes::{furnace, furnace_radiance};
 use common::stats;
-use shared::mutation::MutationParams;
-use smlt::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Rendered, Settings};
+use smlt::render::{
+    self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, ChainSettings, Integrator, Method, Rendered,
+    Settings,
+};
 use smlt::scene::SceneData;
 
 fn settings(size: u32, max_depth: u32, mpp: f64, candidates: u32, bootstrap: u32) -> Settings {
+    let chains = ChainSettings { bootstrap_samples: bootstrap, ..Default::default() };
     Settings {
         width: size,
         height: size,
         max_depth,
         seed: 7,
-        method: Method::Tree(1),
+        integrator: Integrator::new(Method::NAIVE, chains),
         budget: Budget::MutationsPerPixel(mpp),
         candidates,
-        bootstrap_samples: bootstrap,
-        mutation: MutationParams::default(),
-        image_step: None,
-        pixel_importance: true,
-        shard: render::Shard::WHOLE,
-        estimator: render::Estimator::Multiplexed,
+        ..Default::default()
     }
 }
 
-/// `s` rendering with `method` (a command-line name).
+/// `s` rendering with `method` (a command-line name), keeping its chain settings.
 fn use_method(s: &mut Settings, method: &str) {
-    let m: render::Sampler = method.parse().unwrap();
-    (s.method, s.estimator) = (m.method, m.estimator);
+    *s = s.clone().with_method(method.parse().unwrap());
+}
+
+/// The chains' settings of `s`, to change.
+fn chains(s: &mut Settings) -> &mut ChainSettings {
+    &mut s.metropolis_mut().expect("Metropolis chains").chains
 }
 
 fn render_on(scene: &SceneData, s: &Settings, backend: &mut dyn Backend) -> Rendered {
@@ -146,7 +148,7 @@ fn the_path_tracer_matches_the_furnace() {
     let scene = furnace(1.0, rho);
     let expected = furnace_radiance(1.0, rho, k);
     let mut s = settings(16, k, 512.0, 4096, 1);
-    s.method = Method::PathTracer;
+    s = s.with_method(Method::PathTracer);
     let mut renders = vec![("cpu", render_cpu(&scene, &s))];
     if let Some(gpu) = common::gpu_or_skip("the_path_tracer_matches_the_furnace (device half)") {
         let mut backend =
@@ -193,7 +195,7 @@ fn large_steps_only_and_the_default_schedule_agree() {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
     let mut s = settings(32, 5, 256.0, 4096, 1 << 17);
     let default = replica_blocks(&scene, &s, 10, 6);
-    s.mutation.p_large = 1.0;
+    chains(&mut s).mutation.p_large = 1.0;
     let independent = replica_blocks(&scene, &s, 20, 6);
     let mut worst = 0.0f64;
     for b in 0..16 {
@@ -206,7 +208,7 @@ fn large_steps_only_and_the_default_schedule_agree() {
 
 /// Every method converges to the same image: on the default scene, at a fixed seed and equal
 /// budgets, each 4×4 block's mean over 5 independent renders of s2, s4, s6, rc4, rc16, the
-/// path tracer, the chains over the path estimator (naive, s3, rc4) and naive with the seed's
+/// path tracer, the chains over the path estimator (naive, s3, rc4) and naive with the paper's
 /// luminance target (no pixel importance) agrees with naive's within 5 standard errors of the
 /// difference (from the renders' spread). (The reject chains' worst blocks are the closest,
 /// |z| = 4.49 for rc16 and 4.06 for path-rc4 at these seeds: a reject chain's start-up bias,
@@ -214,14 +216,16 @@ fn large_steps_only_and_the_default_schedule_agree() {
 #[test]
 fn every_method_converges_to_the_same_image() {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
-    let mut s = settings(32, 5, 256.0, 4096, 1 << 17);
-    let naive = replica_blocks(&scene, &s, 30, 5);
+    let naive = replica_blocks(&scene, &settings(32, 5, 256.0, 4096, 1 << 17), 30, 5);
     let methods = ["s2", "s4", "s6", "rc4", "rc16", "pt", "path-naive", "path-s3", "path-rc4", "naive"];
     for name in methods {
+        let mut s = settings(32, 5, 256.0, 4096, 1 << 17);
         use_method(&mut s, name);
-        // The last is the seed's target.
-        s.pixel_importance = name != "naive";
-        let method = if s.pixel_importance { name } else { "naive (luminance target)" };
+        // The last is the paper's target.
+        if name != "pt" {
+            chains(&mut s).pixel_importance = name != "naive";
+        }
+        let method = if s.pixel_importance() || name == "pt" { name } else { "naive (luminance target)" };
         let runs = replica_blocks(&scene, &s, 40, 5);
         let mut worst = 0.0f64;
         for b in 0..16 {
@@ -247,10 +251,10 @@ fn every_method_converges_to_the_same_image() {
 fn a_reject_chain_s_start_up_bias_fades_with_the_run() {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
     let mut s = settings(32, 1, 4096.0, 4096, 1 << 17);
-    s.method = Method::PathTracer;
-    let reference = block_means(&render_cpu(&scene, &s), 4)[1];
-    (s.method, s.estimator) = (Method::RejectChain(4), render::Estimator::Path);
-    s.mutation = MutationParams::new(s.mutation.s1, s.mutation.s2, 1.0);
+    let pt = s.clone().with_method(Method::PathTracer);
+    let reference = block_means(&render_cpu(&scene, &pt), 4)[1];
+    use_method(&mut s, "path-rc4");
+    chains(&mut s).mutation.p_large = 1.0;
     let mut deviation = |mpp: f64| {
         s.budget = Budget::MutationsPerPixel(mpp);
         let runs = replica_blocks(&scene, &s, 40, 6);

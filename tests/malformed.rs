@@ -14,7 +14,7 @@ mod common;
 use base64::Engine;
 use common::rng::Xorshift;
 use serde_json::Value;
-use smlt::render::{self, cpu::CpuBackend, Budget, Method, Settings};
+use smlt::render::{self, cpu::CpuBackend, Budget, ChainSettings, Integrator, Settings};
 use smlt::scene::SceneData;
 
 /// A base document: its JSON and its one buffer's bytes.
@@ -170,20 +170,15 @@ fn mutate(base: &Base, rng: &mut Xorshift) -> (Vec<u8>, String) {
 fn attempt(bytes: &[u8]) -> Result<Result<(), String>, String> {
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         let scene = SceneData::from_slice(bytes, "case").map_err(|e| e.to_string())?;
+        let chains = ChainSettings { bootstrap_samples: 256, ..Default::default() };
         let s = Settings {
             width: 4,
             height: 3,
             max_depth: 3,
-            seed: 1,
-            method: Method::Tree(2),
+            integrator: Integrator::new("s2".parse().unwrap(), chains),
             budget: Budget::MutationsPerPixel(4.0),
             candidates: 48,
-            bootstrap_samples: 256,
-            mutation: Default::default(),
-            image_step: None,
-            pixel_importance: true,
-            shard: render::Shard::WHOLE,
-            estimator: render::Estimator::Multiplexed,
+            ..Default::default()
         };
         let params = render::base_params(&scene, &s);
         let mut backend = CpuBackend::new(&scene, &params, 1).map_err(|e| e.to_string())?;

@@ -8,15 +8,17 @@ mod common;
 
 use glam::Vec4;
 use shared::layout::{soa_index, unpack_contribution};
-use shared::mmlt::{ChainState, PathInfo, PathVertex, RenderParams, MODE_BOOTSTRAP};
-use shared::scene::Scene;
+use shared::mmlt::{ChainState, PathInfo, PathVertex};
+use shared::params::{RenderParams, MODE_BOOTSTRAP};
 use shared::{reject_chain, tree};
 use smlt::caster::HostCaster;
 use smlt::gpu::Gpu;
 use smlt::passes;
 use smlt::passes::buffers::{GpuBuffers, OnDevice};
 use smlt::passes::Stage;
-use smlt::render::{self, cpu::CpuBuffers, gpu, Backend, Budget, Method, Settings};
+use smlt::render::{
+    self, cpu::CpuBuffers, gpu, Backend, Budget, ChainSettings, Integrator, Method, Schedule, Settings,
+};
 use smlt::scene::SceneData;
 
 fn close(a: f32, b: f32, rel: f32) -> bool {
@@ -45,9 +47,9 @@ fn upload<T: bytemuck::Pod>(gpu: &Gpu, buffer: &wgpu::Buffer, data: &[T]) {
 }
 
 /// The weight of every distinct state from the shared math, for targets `c` (root first).
-fn expected_weights(method: Method, c: &[f32]) -> Vec<f32> {
+fn expected_weights(method: Schedule, c: &[f32]) -> Vec<f32> {
     match method {
-        Method::Tree(d) => {
+        Schedule::Tree(d) => {
             let mut cc = [0.0; tree::MAX_TREE_STATES];
             cc[..c.len()].copy_from_slice(c);
             let (mut a, mut l, mut w) = (
@@ -58,14 +60,13 @@ fn expected_weights(method: Method, c: &[f32]) -> Vec<f32> {
             tree::evaluate_tree(d, &cc, &mut a, &mut l, &mut w);
             w[..c.len()].to_vec()
         }
-        Method::RejectChain(len) => {
+        Schedule::RejectChain(len) => {
             let mut cc = [0.0; reject_chain::MAX_REJECT_CHAIN_STATES];
             cc[..c.len()].copy_from_slice(c);
             let (mut a, mut p, mut w) = ([0.0; 64], [0.0; 65], [0.0; 65]);
             reject_chain::evaluate_reject_chain(len, &cc, &mut a, &mut p, &mut w);
             w[..c.len()].to_vec()
         }
-        Method::PathTracer => unreachable!("the path tracer has no chains to weigh"),
     }
 }
 
@@ -83,10 +84,9 @@ fn allowed(n: usize) -> usize {
 /// the same state. Each check runs one stage on both from the same inputs (the CPU's outputs
 /// of the stage before) and compares what it wrote.
 struct Difftest<'a> {
-    method: Method,
+    method: Schedule,
     base: RenderParams,
     params: RenderParams,
-    scene: Scene<'a, HostCaster<'a>>,
     dev: gpu::GpuBackend,
     cpu: CpuBuffers<'a, HostCaster<'a>>,
     /// The chains' states before `select`.
@@ -94,22 +94,19 @@ struct Difftest<'a> {
 }
 
 impl<'a> Difftest<'a> {
-    fn new(gpu: Gpu, method: Method, estimator: render::Estimator, scene: &'a SceneData) -> Self {
+    fn new(gpu: Gpu, method: Schedule, estimator: render::Estimator, scene: &'a SceneData) -> Self {
         let s = Settings {
             width: 24,
             height: 16,
             max_depth: 5,
             seed: 3,
-            method,
+            integrator: Integrator::new(
+                Method::Metropolis { schedule: method, estimator },
+                ChainSettings { bootstrap_samples: 2048, ..Default::default() },
+            ),
             budget: Budget::MutationsPerPixel(1.0),
             candidates: 2048,
-            bootstrap_samples: 2048,
-            mutation: Default::default(),
-            // The default image step (1/16, unlike s2).
-            image_step: None,
-            pixel_importance: true,
-            shard: render::Shard::WHOLE,
-            estimator,
+            ..Default::default()
         };
         let base = render::base_params(scene, &s);
         let dev = gpu::GpuBackend::new(gpu, scene, &base).expect("device buffers");
@@ -118,7 +115,6 @@ impl<'a> Difftest<'a> {
             method,
             base,
             params: RenderParams { iteration: 5, ..base },
-            scene: scene.shared(),
             dev,
             cpu: CpuBuffers::new(scene.shared(), &base, importance(&base).into()),
             start: Vec::new(),
@@ -148,7 +144,7 @@ impl<'a> Difftest<'a> {
         let mut chain_u = vec![0.0f32; n * dims as usize];
         for p in 0..n as u32 {
             for d in 0..dims {
-                chain_u[soa_index(p, d, n as u32)] = shared::mmlt::bootstrap_sample(self.base.seed, p, d);
+                chain_u[soa_index(p, d, n as u32)] = shared::params::bootstrap_sample(self.base.seed, p, d);
             }
         }
         self.start = (0..n)
@@ -163,13 +159,7 @@ impl<'a> Difftest<'a> {
     fn mutate(&mut self) {
         let c = self.candidates();
         let (params, cpu) = (&self.params, &mut self.cpu);
-        passes::mutate::cpu(
-            params,
-            &cpu.iteration.chains,
-            &cpu.iteration.chain_u,
-            &mut cpu.iteration.cand_u,
-            &mut cpu.iteration.cand_depth,
-        );
+        cpu.run(Stage::Mutate, params, &mut []);
         self.dev.run(params, &[Stage::Mutate]).unwrap();
         let dev_u: Vec<f32> =
             self.dev.gpu().read(&self.dev.buffers().iteration.cand_u, cpu.iteration.cand_u.len()).unwrap();
@@ -186,14 +176,7 @@ impl<'a> Difftest<'a> {
         let c = self.candidates();
         let (params, cpu) = (&self.params, &mut self.cpu);
         upload(self.dev.gpu(), &self.dev.buffers().iteration.cand_u, &cpu.iteration.cand_u);
-        passes::trace::cpu(
-            params,
-            &cpu.iteration.cand_depth,
-            &cpu.iteration.cand_u,
-            self.scene,
-            &mut cpu.iteration.vertices,
-            &mut cpu.iteration.paths,
-        );
+        cpu.run(Stage::Trace, params, &mut []);
         self.dev.run(params, &[Stage::Trace]).unwrap();
         let dev_paths: Vec<PathInfo> = self.dev.gpu().read(&self.dev.buffers().iteration.paths, c).unwrap();
         let dev_vertices: Vec<PathVertex> = self
@@ -237,19 +220,10 @@ impl<'a> Difftest<'a> {
         let (params, cpu) = (&self.params, &mut self.cpu);
         upload(self.dev.gpu(), &self.dev.buffers().iteration.vertices, &cpu.iteration.vertices);
         upload(self.dev.gpu(), &self.dev.buffers().iteration.paths, &cpu.iteration.paths);
-        passes::connect::cpu(
-            params,
-            &cpu.iteration.cand_u,
-            self.scene,
-            &cpu.iteration.vertices,
-            &cpu.iteration.paths,
-            &cpu.importance,
-            &mut cpu.iteration.contributions,
-            &mut cpu.iteration.cand_depth,
-        );
+        cpu.run(Stage::Connect, params, &mut []);
         // The path estimator's connect writes the vertices each path read as the candidate's
         // depth: the device starts from a sentinel it must overwrite.
-        let path = self.base.estimator == shared::mmlt::ESTIMATOR_PATH;
+        let path = self.base.estimator == shared::params::ESTIMATOR_PATH;
         let before = if path {
             vec![u32::MAX; cpu.iteration.cand_depth.len()]
         } else {
@@ -328,10 +302,10 @@ impl<'a> Difftest<'a> {
         let mut checked = 0;
         for p in 0..n {
             let mut c =
-                vec![shared::mmlt::luminance(Vec4::from_array(self.start[p].contribution).truncate())];
+                vec![shared::color::luminance(Vec4::from_array(self.start[p].contribution).truncate())];
             c.extend(
                 (0..per)
-                    .map(|k| shared::mmlt::luminance(cpu.iteration.contributions[p * per + k].truncate())),
+                    .map(|k| shared::color::luminance(cpu.iteration.contributions[p * per + k].truncate())),
             );
             let expected = expected_weights(method, &c);
             for (state, w) in expected.iter().enumerate() {
@@ -339,7 +313,7 @@ impl<'a> Difftest<'a> {
                 let got = if unpack_contribution(record).1 == shared::layout::NO_PIXEL {
                     0.0
                 } else {
-                    shared::mmlt::luminance(record.truncate())
+                    shared::color::luminance(record.truncate())
                 };
                 // A state with no contribution (c = 0) keeps its weight in the total but splats
                 // nothing.
@@ -366,9 +340,9 @@ impl<'a> Difftest<'a> {
 
     /// splat, from the CPU's records: the device's f32 image equals the CPU's f64 sum.
     fn splat(&mut self) {
-        let (params, cpu) = (&self.params, &self.cpu);
+        let (params, cpu) = (&self.params, &mut self.cpu);
         let mut cpu_image = vec![0.0f64; (params.width * params.height * 3) as usize];
-        passes::splat::cpu(params, &cpu.iteration.splats, &mut cpu_image);
+        cpu.run(Stage::Splat, params, &mut cpu_image);
         upload(self.dev.gpu(), &self.dev.buffers().iteration.splats, &cpu.iteration.splats);
         self.dev.run(params, &[Stage::Splat]).unwrap();
         let mut drained = render::Accumulation::new((params.width * params.height) as usize);
@@ -381,12 +355,12 @@ impl<'a> Difftest<'a> {
 }
 
 /// Every stage of an iteration, device against CPU, each from the same inputs.
-fn difftest(gpu: Gpu, method: Method) {
+fn difftest(gpu: Gpu, method: Schedule) {
     difftest_estimator(gpu, method, render::Estimator::Multiplexed);
 }
 
 /// [`difftest`] with chains over `estimator`.
-fn difftest_estimator(gpu: Gpu, method: Method, estimator: render::Estimator) {
+fn difftest_estimator(gpu: Gpu, method: Schedule, estimator: render::Estimator) {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
     let mut t = Difftest::new(gpu, method, estimator, &scene);
     t.bootstrap();
@@ -400,7 +374,7 @@ fn difftest_estimator(gpu: Gpu, method: Method, estimator: render::Estimator) {
 #[test]
 fn naive_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("naive_passes_agree_on_device_and_cpu") {
-        difftest(gpu, Method::Tree(1));
+        difftest(gpu, Schedule::Tree(1));
     }
 }
 
@@ -408,16 +382,16 @@ fn naive_passes_agree_on_device_and_cpu() {
 #[test]
 fn path_estimator_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("path_estimator_passes_agree_on_device_and_cpu") {
-        difftest_estimator(gpu.clone(), Method::Tree(1), render::Estimator::Path);
-        difftest_estimator(gpu.clone(), Method::Tree(3), render::Estimator::Path);
-        difftest_estimator(gpu, Method::RejectChain(4), render::Estimator::Path);
+        difftest_estimator(gpu.clone(), Schedule::Tree(1), render::Estimator::Path);
+        difftest_estimator(gpu.clone(), Schedule::Tree(3), render::Estimator::Path);
+        difftest_estimator(gpu, Schedule::RejectChain(4), render::Estimator::Path);
     }
 }
 
 #[test]
 fn reject_chain_eight_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("reject_chain_eight_passes_agree_on_device_and_cpu") {
-        difftest(gpu, Method::RejectChain(8));
+        difftest(gpu, Schedule::RejectChain(8));
     }
 }
 
@@ -439,15 +413,13 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
         height: 8,
         max_depth: 3,
         seed: 11,
-        method: Method::Tree(3),
+        integrator: Integrator::new(
+            "s3".parse().unwrap(),
+            ChainSettings { bootstrap_samples: 64, ..Default::default() },
+        ),
         budget: Budget::MutationsPerPixel(1.0),
         candidates: 7 * 64,
-        bootstrap_samples: 64,
-        mutation: Default::default(),
-        image_step: None,
-        pixel_importance: true,
-        shard: render::Shard::WHOLE,
-        estimator: render::Estimator::Multiplexed,
+        ..Default::default()
     };
     let base = render::base_params(&scene, &s);
     let (n, c, dims) = (base.chains as usize, base.candidates as usize, base.dims as usize);
@@ -502,7 +474,7 @@ fn speculative_candidates_share_each_levels_perturbation_on_the_device() {
 #[test]
 fn speculative_depth_three_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("speculative_depth_three_passes_agree_on_device_and_cpu") {
-        difftest(gpu, Method::Tree(3));
+        difftest(gpu, Schedule::Tree(3));
     }
 }
 
@@ -520,32 +492,32 @@ fn every_pass_binds_what_its_kernel_declares() {
         height: 8,
         max_depth: 3,
         seed: 1,
-        method: Method::Tree(2),
+        integrator: Integrator::new(
+            "s2".parse().unwrap(),
+            ChainSettings { bootstrap_samples: 192, ..Default::default() },
+        ),
         budget: Budget::MutationsPerPixel(1.0),
         candidates: 192,
-        bootstrap_samples: 192,
-        mutation: Default::default(),
-        image_step: None,
-        pixel_importance: true,
-        shard: render::Shard::WHOLE,
-        estimator: render::Estimator::Multiplexed,
+        ..Default::default()
     };
     let params = render::base_params(&scene, &s);
-    let buffers = GpuBuffers::new(&mut OnDevice(gpu.clone()), &scene, &params);
+    let buffers = GpuBuffers::new(&mut OnDevice::new(gpu.clone()), &scene, &params);
     let interfaces = smlt::gpu::spirv_interfaces(&wgpu::util::make_spirv_raw(smlt::gpu::KERNELS_SPV));
     let declared = |entry: &str| -> Vec<bool> {
         let e = interfaces.iter().find(|e| e.name == entry).unwrap_or_else(|| panic!("no {entry}"));
-        e.bindings.iter().map(|(_, writable)| *writable).collect()
+        e.bindings.iter().filter(|(set, ..)| *set == 0).map(|(_, _, writable)| *writable).collect()
     };
     for stage in Stage::ITERATION {
         let pass = stage.pass(&gpu, &buffers).unwrap();
         assert_eq!(pass.writable(), declared(stage.entry_point()), "{}", stage.name());
     }
-    let any = |n: usize| (0..n).map(|_| gpu.storage_zeroed::<u32>("any", 64)).collect::<Vec<_>>();
-    let b = any(6);
-    let reference = passes::reference::gpu(&gpu, [&b[0], &b[1], &b[2], &b[3], &b[4], &b[5]]).unwrap();
-    assert_eq!(reference.writable(), declared("reference_cs"));
-    let raycast = passes::raycast::gpu(&gpu, [&b[0], &b[1], &b[2], &b[3], &b[4]]).unwrap();
+    let path_params = gpu.storage_from("path tracer params", &[render::path_params(&scene, &s)]);
+    let reference = passes::path_tracer::gpu(&gpu, &path_params, &buffers).unwrap();
+    assert_eq!(reference.writable(), declared("path_tracer_cs"));
+    let ray_params = gpu.storage_from("raycast params", &[params]);
+    let rays = gpu.storage_zeroed::<shared::rays::Ray>("rays", 64);
+    let answers = gpu.storage_zeroed::<u32>("answers", 64);
+    let raycast = passes::raycast::gpu(&gpu, [&ray_params, &rays, &answers], &buffers.registry).unwrap();
     assert_eq!(raycast.writable(), declared("raycast_cs"));
 }
 
@@ -568,24 +540,19 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
             height: 16,
             max_depth: 5,
             seed: 3,
-            method: Method::PathTracer,
+            integrator: Integrator::PathTracer,
             budget: Budget::MutationsPerPixel(4.0),
             candidates: 24 * 16 * 4,
-            bootstrap_samples: 1,
-            mutation: Default::default(),
-            image_step: None,
-            pixel_importance: true,
-            shard: render::Shard::WHOLE,
-            estimator: render::Estimator::Multiplexed,
+            ..Default::default()
         };
         let params = render::path_params(&scene, &s);
         let base = render::base_params(&scene, &s);
-        let round = shared::path_tracer::ReferenceParams { round: 2, ..params };
+        let round = shared::path_tracer::PathTracerParams { round: 2, ..params };
         let mut images = Vec::new();
         let mut dev = gpu::GpuBackend::new(gpu.clone(), &scene, &base).expect("device buffers");
         let mut cpu = render::cpu::CpuBackend::new(&scene, &base, 2).expect("threads");
         for backend in [&mut dev as &mut dyn Backend, &mut cpu] {
-            backend.trace_reference_round(&round).unwrap();
+            backend.trace_path_tracer_round(&round).unwrap();
             let mut acc = render::Accumulation::new(24 * 16);
             backend.drain(&mut acc).unwrap();
             images.push(acc.image);

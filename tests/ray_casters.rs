@@ -18,7 +18,7 @@ use std::path::Path;
 
 use common::rng::Xorshift;
 use glam::Vec3;
-use shared::mmlt::RenderParams;
+use shared::params::RenderParams;
 use shared::ray_caster::{Hit, RayCaster, NO_HIT};
 use shared::rays::{cast, Ray, RAY_CLOSEST, RAY_OCCLUSION};
 use smlt::passes;
@@ -186,7 +186,7 @@ fn every_caster_answers_every_query_alike() {
         let replayed =
             smlt::bench::raycast::replay_rays(gpu, scene, &rays, params.candidates).expect("device replay");
         let mut expected = vec![0u32; rays.len()];
-        passes::raycast::cpu(&params, &obvhs, &rays, &mut expected);
+        passes::raycast::cpu(&params, scene.obvhs_view(), &rays, &mut expected);
         assert_eq!(expected, rays.iter().map(|r| cast(&obvhs, r)).collect::<Vec<_>>());
         let (mut differ, mut ties) = (0, 0);
         for (k, (&dev, &cpu)) in replayed.iter().zip(&expected).enumerate() {

@@ -5,11 +5,16 @@
 
 mod common;
 
-use shared::mmlt::{vertex_slot, PathInfo, PathVertex, RenderParams, MODE_BOOTSTRAP};
+use kernels::connect::ConnectIo;
+use kernels::mutate::MutateIo;
+use kernels::trace::TraceIo;
+use shared::mmlt::{vertex_slot, PathInfo, PathVertex};
+use shared::params::{RenderParams, MODE_BOOTSTRAP};
 use shared::rays::{Ray, RAY_CLOSEST, RAY_NONE, RAY_OCCLUSION};
 use smlt::bench::raycast::{log_candidates, replay, RayLog};
 use smlt::passes;
-use smlt::render::{self, Budget, Method, Settings};
+use smlt::passes::buffers::{OnDevice, SceneBuffers, Storage};
+use smlt::render::{self, Budget, ChainSettings, Integrator, Method, Settings};
 use smlt::scene::SceneData;
 use smlt::timing::{time_passes, Clock};
 
@@ -20,21 +25,26 @@ fn candidates(scene: &SceneData, count: u32, max_depth: u32) -> (RenderParams, V
         height: 24,
         max_depth,
         seed: 7,
-        method: Method::Tree(1),
+        integrator: Integrator::new(
+            Method::NAIVE,
+            ChainSettings { bootstrap_samples: count, ..Default::default() },
+        ),
         budget: Budget::MutationsPerPixel(1.0),
         candidates: count,
-        bootstrap_samples: count,
-        mutation: Default::default(),
-        image_step: None,
-        pixel_importance: true,
-        shard: render::Shard::WHOLE,
-        estimator: render::Estimator::Multiplexed,
+        ..Default::default()
     };
     let params = RenderParams { mode: MODE_BOOTSTRAP, ..render::base_params(scene, &s) };
     let c = params.candidates as usize;
     let mut cand_u = vec![0.0; c * params.dims as usize];
     let mut cand_depth = vec![0; c];
-    passes::mutate::cpu(&params, &[], &[], &mut cand_u, &mut cand_depth);
+    let io = MutateIo {
+        params: &params,
+        chains: &[],
+        chain_u: &[],
+        cand_u: &mut cand_u,
+        cand_depth: &mut cand_depth,
+    };
+    io.run(c);
     (params, cand_u, cand_depth)
 }
 
@@ -58,7 +68,15 @@ fn the_log_holds_the_rays_of_each_candidates_path() {
     // The paths themselves, from the same body.
     let mut vertices = vec![PathVertex::default(); c * shared::mmlt::vertex_slots(max_depth) as usize];
     let mut paths = vec![PathInfo::default(); c];
-    passes::trace::cpu(&params, &cand_depth, &cand_u, scene.shared(), &mut vertices, &mut paths);
+    let io = TraceIo {
+        params: &params,
+        cand_depth: &cand_depth,
+        cand_u: &cand_u,
+        vertices: &mut vertices,
+        paths: &mut paths,
+        scene: scene.shared(),
+    };
+    io.run(c);
     let vertex = |k: usize, side: u32, i: u32| vertices[k + vertex_slot(side, i, max_depth) as usize * c];
     let (mut total, mut shadow) = (0u64, 0u64);
     for (k, path) in paths.iter().enumerate() {
@@ -111,7 +129,7 @@ fn the_device_replays_the_rays_like_the_host() {
     let replayed = replay(&gpu, &scene, &log, 2).expect("replay");
     let mut host = vec![0u32; log.candidates as usize];
     let p = RenderParams { candidates: log.candidates, ..Default::default() };
-    passes::raycast::cpu(&p, &scene.shared().caster, &log.rays, &mut host);
+    passes::raycast::cpu(&p, scene.shared(), &log.rays, &mut host);
     let differ = host.iter().zip(&replayed.answers).filter(|(a, b)| a != b).count();
     println!(
         "{} rays ({:.2} per candidate) in {:.3} ms ({} clock): {:.2} M rays/s; {differ} of {} answers differ",
@@ -143,11 +161,12 @@ fn passes_are_timed_on_the_device() {
     let (params, cand_u, cand_depth) = candidates(&scene, 4096, 8);
     let log = log_candidates(&scene, &params, &cand_u, &cand_depth);
     let p = gpu.storage_from("params", &[RenderParams { candidates: log.candidates, ..Default::default() }]);
-    let nodes = gpu.storage_from("nodes", scene.wide_nodes());
-    let tris = gpu.storage_from("triangles", &scene.triangles);
+    let mut storage = OnDevice::new(gpu.clone());
+    SceneBuffers::new(&mut storage, &scene);
+    let scene_buffers = storage.registry();
     let rays = gpu.storage_from("rays", &log.rays);
     let answers = gpu.storage_zeroed::<u32>("answers", log.candidates as usize);
-    let pass = passes::raycast::gpu(&gpu, [&p, &nodes, &tris, &rays, &answers]).unwrap();
+    let pass = passes::raycast::gpu(&gpu, [&p, &rays, &answers], &scene_buffers).unwrap();
     time_passes(&gpu, &[(&pass, 64)]).unwrap(); // warm-up
     let wall = std::time::Instant::now();
     let (seconds, clock) = time_passes(&gpu, &[(&pass, 64), (&pass, log.candidates), (&pass, 0)]).unwrap();
@@ -185,19 +204,28 @@ fn a_path_reads_only_the_dimensions_of_its_depth() {
         let mut vertices = vec![PathVertex::default(); c * shared::mmlt::vertex_slots(max_depth) as usize];
         let mut paths = vec![PathInfo::default(); c];
         let mut contributions = vec![glam::Vec4::ZERO; c];
-        passes::trace::cpu(&params, &cand_depth, u, scene.shared(), &mut vertices, &mut paths);
+        let trace = TraceIo {
+            params: &params,
+            cand_depth: &cand_depth,
+            cand_u: u,
+            vertices: &mut vertices,
+            paths: &mut paths,
+            scene: scene.shared(),
+        };
+        trace.run(c);
         let importance = vec![1.0f32; (params.width * params.height) as usize];
         let mut depth_out = cand_depth.clone();
-        passes::connect::cpu(
-            &params,
-            u,
-            scene.shared(),
-            &vertices,
-            &paths,
-            &importance,
-            &mut contributions,
-            &mut depth_out,
-        );
+        let connect = ConnectIo {
+            params: &params,
+            cand_u: u,
+            vertices: &vertices,
+            paths: &paths,
+            importance: &importance,
+            contributions: &mut contributions,
+            cand_depth: &mut depth_out,
+            scene: scene.shared(),
+        };
+        connect.run(c);
         (log.rays, contributions)
     };
     let (rays, contributions) = run(&cand_u);

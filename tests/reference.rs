@@ -7,7 +7,7 @@ use common::stats;
 
 use common::scenes::{furnace, furnace_radiance};
 use smlt::reference::{render_reference, ReferenceSettings};
-use smlt::render::{self, cpu::CpuBackend, Budget, Settings};
+use smlt::render::{self, cpu::CpuBackend, Budget, ChainSettings, Integrator, Settings};
 use smlt::scene::SceneData;
 
 fn settings(name: &str, size: u32, max_depth: u32, spp: u32, seed: u32) -> ReferenceSettings {
@@ -116,15 +116,13 @@ fn the_reference_and_mmlt_agree_on_the_default_scene() {
                     height: size,
                     max_depth: k,
                     seed: 60 + seed,
-                    method: method.parse().unwrap(),
+                    integrator: Integrator::new(
+                        method.parse().unwrap(),
+                        ChainSettings { bootstrap_samples: 1 << 17, ..Default::default() },
+                    ),
                     budget: Budget::MutationsPerPixel(256.0),
                     candidates: 4096,
-                    bootstrap_samples: 1 << 17,
-                    mutation: Default::default(),
-                    image_step: None,
-                    pixel_importance: true,
-                    shard: render::Shard::WHOLE,
-                    estimator: render::Estimator::Multiplexed,
+                    ..Default::default()
                 };
                 let p = render::base_params(&scene, &s);
                 let r =

@@ -30,7 +30,7 @@ fn the_committed_scenes_are_what_the_generators_write() {
     }
 }
 
-/// The knob reaches the seed's 75 K–330 K triangles at the documented values.
+/// The knob reaches the paper's 75 K–330 K triangles at the documented values.
 #[test]
 fn tessellation_reaches_the_seeds_triangle_counts() {
     for (name, per_n2, low, high) in

@@ -8,7 +8,10 @@ mod common;
 
 use common::scenes::{furnace, furnace_radiance};
 use smlt::part::{merge, read_part, write_part, Identity, PartError};
-use smlt::render::{self, cpu::CpuBackend, gpu::GpuBackend, Budget, Method, Rendered, Settings, Shard};
+use smlt::render::{
+    self, cpu::CpuBackend, gpu::GpuBackend, Budget, ChainSettings, Integrator, Rendered, Schedule, Settings,
+    Shard,
+};
 use smlt::scene::SceneData;
 
 fn cornell() -> SceneData {
@@ -16,22 +19,22 @@ fn cornell() -> SceneData {
 }
 
 fn settings(method: &str, shard: Shard) -> Settings {
-    let sampler: render::Sampler = method.parse().unwrap();
+    let chains = ChainSettings { bootstrap_samples: 8192, ..Default::default() };
     Settings {
         width: 20,
         height: 12,
         max_depth: 4,
         seed: 5,
-        method: sampler.method,
-        estimator: sampler.estimator,
+        integrator: Integrator::new(method.parse().unwrap(), chains),
         budget: Budget::MutationsPerPixel(24.0),
         candidates: 1536,
-        bootstrap_samples: 8192,
-        mutation: Default::default(),
-        image_step: None,
-        pixel_importance: true,
         shard,
     }
+}
+
+/// The chains' settings of `s`, to change.
+fn chains(s: &mut Settings) -> &mut ChainSettings {
+    &mut s.metropolis_mut().expect("Metropolis chains").chains
 }
 
 fn render_cpu(scene: &SceneData, s: &Settings, threads: usize) -> Rendered {
@@ -75,7 +78,7 @@ fn parts(
     count: u32,
     render_part: impl Fn(&Settings) -> Rendered,
 ) -> Vec<smlt::part::Part> {
-    let dir = temp_dir(&format!("{}-{count}-{}", s.method, s.seed));
+    let dir = temp_dir(&format!("{}-{count}-{}", s.method(), s.seed));
     let parts = (1..=count)
         .map(|index| {
             let mut p = s.clone();
@@ -162,11 +165,11 @@ fn merges_of_parts_that_do_not_belong_together_are_refused() {
     type Change = fn(&mut Settings);
     let variants: [(&str, Change); 6] = [
         ("seed 5 vs 6", |s| s.seed = 6),
-        ("method", |s| s.method = Method::Tree(2)),
+        ("schedule", |s| *s = s.clone().with_method("s2".parse().unwrap())),
         ("width 20 vs 22", |s| s.width = 22),
         ("max depth", |s| s.max_depth = 3),
         ("candidates", |s| s.candidates = 1024),
-        ("pixel importance", |s| s.pixel_importance = false),
+        ("pixel importance", |s| chains(s).pixel_importance = false),
     ];
     for (needle, change) in variants {
         let mut t = s.clone();
@@ -205,16 +208,15 @@ fn every_method_refines_b_with_its_large_steps() {
     for method in ["naive", "s3", "rc8"] {
         let mut s = settings(method, Shard::WHOLE);
         s.max_depth = k;
-        s.pixel_importance = false;
-        s.bootstrap_samples = 4096;
+        chains(&mut s).pixel_importance = false;
+        chains(&mut s).bootstrap_samples = 4096;
         s.budget = Budget::MutationsPerPixel(256.0);
         let r = render_cpu(&scene, &s, 2);
-        let m = s.method;
-        let per_iteration = match m {
-            Method::Tree(_) => s.chains() as f64,
-            Method::RejectChain(l) => (s.chains() * l) as f64,
-            Method::PathTracer => unreachable!("not among the methods tested"),
-        } * s.mutation.p_large as f64;
+        let m = *s.metropolis().expect("chains");
+        let per_iteration = match m.schedule {
+            Schedule::Tree(_) => s.chains() as f64,
+            Schedule::RejectChain(l) => (s.chains() * l) as f64,
+        } * m.chains.mutation.p_large as f64;
         let n = per_iteration * r.stats.iterations as f64;
         let got = r.stats.large_steps as f64;
         assert!((got - n).abs() < 5.0 * n.sqrt(), "{method}: {got} large steps, expected about {n}");
@@ -224,7 +226,7 @@ fn every_method_refines_b_with_its_large_steps() {
             r.stats.b, r.stats.b_standard_error, r.stats.bootstrap_samples, r.stats.large_steps
         );
         assert!(z.abs() < 4.0, "{method}: b {} vs {expected}", r.stats.b);
-        s.mutation.p_large = 0.0;
+        chains(&mut s).mutation.p_large = 0.0;
         let r = render_cpu(&scene, &s, 2);
         assert_eq!(r.stats.large_steps, 0);
         assert_eq!(r.stats.b, render::normalisation(s.state_depths(), &r.bootstrap, &Default::default()).b);
@@ -237,8 +239,8 @@ fn the_error_of_b_falls_as_one_over_root_samples() {
     let scene = cornell();
     let mut s = settings("naive", Shard::WHOLE);
     s.candidates = 512;
-    s.bootstrap_samples = 512;
-    s.mutation.p_large = 0.5;
+    chains(&mut s).bootstrap_samples = 512;
+    chains(&mut s).mutation.p_large = 0.5;
     s.budget = Budget::MutationsPerPixel(40.0);
     let short = render_cpu(&scene, &s, 2);
     s.budget = Budget::MutationsPerPixel(160.0);

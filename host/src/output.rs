@@ -78,7 +78,7 @@ pub fn auto_exposure(rgb: &[f32]) -> f32 {
         .as_chunks::<3>()
         .0
         .iter()
-        .map(|p| shared::mmlt::luminance(glam::Vec3::from_array(*p)))
+        .map(|p| shared::color::luminance(glam::Vec3::from_array(*p)))
         .filter(|l| l.is_finite())
         .collect();
     if lum.is_empty() {

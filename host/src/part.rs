@@ -3,9 +3,8 @@
 //! A part is an OpenEXR file. Its `R`, `G`, `B` channels hold the part's own normalised image
 //! (to look at); the exact f64 splat sums S are stored bit for bit as two `u32` channels per
 //! colour (`S.R.hi`, `S.R.lo`, …); a layer attribute `smltPart` holds, as JSON, everything else
-//! a merge needs: the render's identity (scene and its hash, view, resolution, depth, seed,
-//! method, chain count, bootstrap, mutation schedule, pixel importance, budget, shard count,
-//! the smlt version and the kernels module's hash), the shard index, W, the acceptance and
+//! a merge needs: the render's identity (scene and its hash, view, the render's [`Settings`]
+//! serialised whole, the smlt version and the kernels module's hash), the shard index, W, the acceptance and
 //! NaN/Inf tallies, the candidates traced, and the moments of the bootstrap's and the large
 //! steps' targets (f64 values as their bit patterns, so nothing is rounded on the way), and a
 //! checksum over the header and the sums: a part changed after it was written (a digit of its
@@ -18,15 +17,18 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use shared::normalisation::Moments;
 
-use crate::render::{Accumulation, Method, Rendered, Sampler, Settings, Shard, Stats};
+use crate::render::{Accumulation, Rendered, Settings, Shard, Stats};
 
 /// The `format` value of a part written by this version.
-pub const FORMAT: &str = "smlt-part-4";
+pub const FORMAT: &str = "smlt-part-5";
 /// The layer attribute holding the part's JSON.
 const ATTRIBUTE: &str = "smltPart";
 
-/// What makes two parts parts of the same render.
+/// What makes two parts parts of the same render: the scene, the view, the render's settings
+/// as they are (serialised whole, so a setting added to [`Settings`] is compared with no
+/// further edit), and the versions that rendered it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Identity {
     /// The scene's `SceneData::name`: its file path, or a built-in scene's name.
     pub scene: String,
@@ -34,34 +36,9 @@ pub struct Identity {
     pub scene_hash: String,
     /// The view: 1-based index among the scene file's cameras.
     pub view: u32,
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// Maximum number of bounces (pbrt's maxdepth).
-    pub max_depth: u32,
-    /// The seed every random number of the render is keyed by.
-    pub seed: u32,
-    /// The method with its estimator, as printed: `pt`, `naive`, `s<d>`, `rc<l>`, `path-s<d>`, …
-    pub method: String,
-    /// Candidates per iteration of the whole render (sets the chain count).
-    pub candidates: u32,
-    /// Bootstrap samples, from which the chains' start states are drawn.
-    pub bootstrap_samples: u32,
-    /// Kelemen's smallest small-step size (`shared::mutation::MutationParams::s1`).
-    pub s1: f32,
-    /// Kelemen's largest small-step size.
-    pub s2: f32,
-    /// Probability of a large step.
-    pub p_large: f32,
-    /// Largest small-step size of the image-plane position.
-    pub image_s2: f32,
-    /// Whether the chains' target was divided by the pixel importance.
-    pub pixel_importance: bool,
-    /// Budget: "mpp M" or "seconds T".
-    pub budget: String,
-    /// Shards the render was split into.
-    pub shard_count: u32,
+    /// The render's settings, with the shard index of the first part (every part's own
+    /// index is its header's `shard`).
+    pub settings: Settings,
     /// The smlt version that rendered it.
     pub smlt_version: String,
     /// The content hash of the kernels module it ran (`crate::hash`).
@@ -75,58 +52,44 @@ impl Identity {
             scene: scene.to_string(),
             scene_hash: scene_hash.to_string(),
             view,
-            width: s.width,
-            height: s.height,
-            max_depth: s.max_depth,
-            seed: s.seed,
-            method: s.sampler().to_string(),
-            candidates: s.candidates,
-            bootstrap_samples: s.bootstrap_samples,
-            s1: s.mutation.s1,
-            s2: s.mutation.s2,
-            p_large: s.mutation.p_large,
-            image_s2: s.mutation_params().image_s2,
-            pixel_importance: s.pixel_importance && s.method != crate::render::Method::PathTracer,
-            budget: match s.budget {
-                crate::render::Budget::Seconds(t) => format!("seconds {t}"),
-                crate::render::Budget::MutationsPerPixel(m) => format!("mpp {m}"),
-            },
-            shard_count: s.shard.count,
+            settings: Settings { shard: Shard { index: 1, ..s.shard }, ..s.clone() },
             smlt_version: env!("CARGO_PKG_VERSION").to_string(),
             kernels: crate::hash::content_hash(crate::gpu::KERNELS_SPV),
         }
     }
 
-    /// The first field in which `self` and `other` differ, as "name: a vs b".
-    fn difference(&self, other: &Identity) -> Option<String> {
+    /// The first value in which `self` and `other` differ, as "where a vs b" (where is the
+    /// field's path in words, e.g. `integrator Metropolis chains mutation p large 0.3 vs 0.5`
+    /// for a setting), walking every field of both.
+    pub fn difference(&self, other: &Identity) -> Option<String> {
         let a = serde_json::to_value(self).ok()?;
         let b = serde_json::to_value(other).ok()?;
-        let (a, b) = (a.as_object()?, b.as_object()?);
-        let names = [
-            "scene",
-            "scene_hash",
-            "view",
-            "width",
-            "height",
-            "max_depth",
-            "seed",
-            "method",
-            "candidates",
-            "bootstrap_samples",
-            "s1",
-            "s2",
-            "p_large",
-            "image_s2",
-            "pixel_importance",
-            "budget",
-            "shard_count",
-            "smlt_version",
-            "kernels",
-        ];
-        names.iter().find(|n| a.get(**n) != b.get(**n)).map(|n| {
-            let label = n.replace('_', " ");
-            format!("{label} {} vs {}", a[*n], b[*n])
-        })
+        first_difference("", &a, &b)
+    }
+}
+
+/// The first place in which two JSON values differ, as "where a vs b": the object keys on the
+/// way, in words (the settings' own key left out).
+fn first_difference(path: &str, a: &serde_json::Value, b: &serde_json::Value) -> Option<String> {
+    use serde_json::Value;
+    let at = |key: &str| match (path, key) {
+        ("", "settings") => String::new(),
+        ("", _) => key.replace('_', " "),
+        _ => format!("{path} {}", key.replace('_', " ")),
+    };
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            let keys = x.keys().chain(y.keys().filter(|k| !x.contains_key(*k)));
+            for key in keys {
+                let (u, v) = (x.get(key).unwrap_or(&Value::Null), y.get(key).unwrap_or(&Value::Null));
+                if let Some(d) = first_difference(&at(key), u, v) {
+                    return Some(d);
+                }
+            }
+            None
+        }
+        _ if a == b => None,
+        _ => Some(format!("{path} {a} vs {b}")),
     }
 }
 
@@ -348,8 +311,9 @@ pub fn read_part(path: &Path) -> Result<Part, PartError> {
         return Err(damaged(&format!("format {} (this smlt reads {FORMAT})", header.format)));
     }
     let id = &header.identity;
-    let pixels = id.width as usize * id.height as usize;
-    if layer.size.width() != id.width as usize || layer.size.height() != id.height as usize {
+    let (width, height) = (id.settings.width as usize, id.settings.height as usize);
+    let pixels = width * height;
+    if layer.size.width() != width || layer.size.height() != height {
         return Err(damaged("its image size is not the header's"));
     }
     let by_name: HashMap<String, &FlatSamples> =
@@ -373,8 +337,8 @@ pub fn read_part(path: &Path) -> Result<Part, PartError> {
             "its checksum does not match its header and sums: it was changed after it was written",
         ));
     }
-    if header.shard == 0 || header.shard > id.shard_count {
-        return Err(damaged(&format!("shard {} of {}", header.shard, id.shard_count)));
+    if header.shard == 0 || header.shard > id.settings.shard.count {
+        return Err(damaged(&format!("shard {} of {}", header.shard, id.settings.shard.count)));
     }
     Ok(Part {
         path: path.to_path_buf(),
@@ -412,7 +376,7 @@ pub fn merge(parts: &[Part]) -> Result<Rendered, PartError> {
             });
         }
     }
-    let count = first.identity.shard_count;
+    let count = first.identity.settings.shard.count;
     let mut by_shard: Vec<Option<&Part>> = vec![None; count as usize];
     for p in parts {
         let slot = &mut by_shard[(p.shard - 1) as usize];
@@ -428,20 +392,80 @@ pub fn merge(parts: &[Part]) -> Result<Rendered, PartError> {
     if let Some(k) = by_shard.iter().position(Option::is_none) {
         return Err(PartError::Missing(format!("{}/{count}", k + 1), count));
     }
-    let id = &first.identity;
-    let mut acc = Accumulation::new(id.width as usize * id.height as usize);
-    let sampler = id.method.parse::<Sampler>().map_err(|e| PartError::Damaged(show(first), e))?;
-    let method = sampler.method;
-    let depths = shared::mmlt::state_depths(sampler.estimator.code(), id.max_depth);
-    let chains = match method {
-        Method::PathTracer => 0,
-        m => (id.candidates / m.candidates_per_chain()).max(1),
-    };
-    let mut stats = Stats { chains, ..Default::default() };
+    let settings = &first.identity.settings;
+    let mut acc = Accumulation::new(settings.width as usize * settings.height as usize);
+    let mut stats = Stats { chains: settings.chains(), ..Default::default() };
     for p in by_shard.into_iter().flatten() {
         acc.merge(&p.accumulation);
         stats.iterations = stats.iterations.max(p.iterations);
         stats.render_seconds = stats.render_seconds.max(p.render_seconds);
     }
-    Ok(Rendered::from_accumulation((id.width, id.height), (method, depths), first.bootstrap, acc, stats))
+    Ok(Rendered::from_accumulation(settings, first.bootstrap, acc, stats))
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::Value;
+
+    use super::*;
+    use crate::render::Method;
+
+    fn identity() -> Identity {
+        let s = Settings::default().with_method("path-s3".parse::<Method>().unwrap());
+        Identity::new("scene", "hash", 1, &Settings { shard: Shard { index: 2, count: 3 }, ..s })
+    }
+
+    /// Every leaf of `v` (a number, string or bool inside objects and arrays), with its path.
+    fn leaves(v: &Value, path: Vec<String>, out: &mut Vec<Vec<String>>) {
+        match v {
+            Value::Object(o) => {
+                o.iter().for_each(|(k, x)| leaves(x, [path.clone(), vec![k.clone()]].concat(), out))
+            }
+            _ => out.push(path),
+        }
+    }
+
+    /// Changing any one value of the identity — every field of the settings included, found by
+    /// walking their serialisation, so a setting added later is covered with no edit here —
+    /// makes `difference` name it, and the same identity has none.
+    #[test]
+    fn every_value_of_the_identity_tells_renders_apart() {
+        let id = identity();
+        assert_eq!(id.difference(&id.clone()), None);
+        assert_eq!(id.settings.shard.index, 1, "the identity holds no part's own shard index");
+        let value = serde_json::to_value(&id).unwrap();
+        let mut paths = Vec::new();
+        leaves(&value, Vec::new(), &mut paths);
+        assert!(paths.len() > 15, "{} leaves", paths.len());
+        for path in paths {
+            let mut changed = value.clone();
+            let leaf = path.iter().fold(&mut changed, |v, k| &mut v[k.as_str()]);
+            *leaf = match leaf.take() {
+                Value::Number(n) => Value::from(n.as_f64().unwrap() + 1.0),
+                Value::String(s) => Value::from(format!("{s}x")),
+                Value::Bool(b) => Value::from(!b),
+                other => panic!("{path:?}: {other}"),
+            };
+            let difference = first_difference("", &value, &changed).unwrap_or_default();
+            let last = path.last().unwrap().replace('_', " ");
+            assert!(difference.contains(&last), "{path:?}: {difference}");
+        }
+    }
+
+    /// A field the settings gain (here added to a part's JSON, as a newer smlt would write it)
+    /// is never dropped on the way: the part is refused as unreadable rather than merged with
+    /// parts that lack it, and the comparison of two such identities names it.
+    #[test]
+    fn a_field_added_to_the_settings_refuses_the_merge() {
+        let value = serde_json::to_value(identity()).unwrap();
+        let mut added = value.clone();
+        added["settings"]["integrator"]["Metropolis"]["chains"]["new_knob"] = Value::from(3);
+        let e = serde_json::from_value::<Identity>(added.clone()).unwrap_err().to_string();
+        assert!(e.contains("new_knob"), "{e}");
+        let difference = first_difference("", &value, &added).unwrap();
+        assert!(difference.contains("new knob null vs 3"), "{difference}");
+        let mut top = value.clone();
+        top["settings"]["new_knob"] = Value::from(true);
+        assert!(serde_json::from_value::<Identity>(top).is_err());
+    }
 }

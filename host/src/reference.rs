@@ -7,13 +7,13 @@
 
 use std::path::{Path, PathBuf};
 
-use shared::path_tracer::ReferenceParams;
+use shared::path_tracer::PathTracerParams;
 
 use crate::gpu::Gpu;
 use crate::render::cpu::{default_threads, CpuBackend};
 use crate::render::gpu::GpuBackend;
 use crate::render::{
-    base_params, reference_params, Accumulation, Backend, Budget, Method, RenderError, Settings, Shard,
+    base_params, path_tracer_params, Accumulation, Backend, Budget, Integrator, RenderError, Settings, Shard,
 };
 use crate::scene::SceneData;
 
@@ -119,14 +119,9 @@ pub fn render_reference(
         height: s.height,
         max_depth: s.max_depth,
         seed: s.seed,
-        method: Method::PathTracer,
-        estimator: Default::default(),
+        integrator: Integrator::PathTracer,
         budget: Budget::MutationsPerPixel(s.spp as f64),
         candidates: per_round.saturating_mul(pixels as u32),
-        bootstrap_samples: 1,
-        mutation: Default::default(),
-        image_step: None,
-        pixel_importance: true,
         shard: Shard::WHOLE,
     };
     let params = base_params(scene, &settings);
@@ -134,9 +129,9 @@ pub fn render_reference(
         Some(gpu) => Box::new(GpuBackend::new(gpu.clone(), scene, &params)?),
         None => Box::new(CpuBackend::new(scene, &params, default_threads())?),
     };
-    let base = reference_params(scene, (s.width, s.height), s.max_depth, s.seed, per_round);
+    let base = path_tracer_params(scene, (s.width, s.height), s.max_depth, s.seed, per_round);
     if backend.compiles_kernels() {
-        backend.warm_up_reference(&base)?;
+        backend.warm_up_path_tracer(&base)?;
     }
     let rounds = s.spp.div_ceil(per_round);
     let mut sum = vec![0.0f64; pixels * 3];
@@ -145,8 +140,8 @@ pub fn render_reference(
     let mut round_squares = vec![0.0f64; pixels * 3];
     let mut part = Accumulation::new(pixels);
     for i in 0..rounds {
-        let p = ReferenceParams { round: i, samples: per_round.min(s.spp - i * per_round), ..base };
-        backend.trace_reference_round(&p)?;
+        let p = PathTracerParams { round: i, samples: per_round.min(s.spp - i * per_round), ..base };
+        backend.trace_path_tracer_round(&p)?;
         backend.drain(&mut part)?;
         for (j, v) in part.image.iter_mut().enumerate() {
             sum[j] += *v;

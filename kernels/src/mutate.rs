@@ -1,9 +1,9 @@
-//! The `mutate` pass (seed §5.1): one invocation per candidate builds primary samples in the
+//! The `mutate` pass (the paper's §5.1): one invocation per candidate builds primary samples in the
 //! SoA candidate buffer. A chain's candidates are adjacent invocations. For a speculative
 //! tree, each level's perturbation is one draw per (chain, iteration, level, dimension) shared
-//! by the whole level (`shared::mutation::tree_level_steps`), so a chain's invocations divide
+//! by the whole level (`shared::tree::tree_level_steps`), so a chain's invocations divide
 //! its dimensions among them: each draws its dimensions' level steps once and builds those
-//! dimensions of every candidate of the chain (`shared::mutation::tree_candidate_samples`). For
+//! dimensions of every candidate of the chain (`shared::tree::tree_candidate_samples`). For
 //! a reject chain, each of the l proposals is its own mutation of the current state, built by
 //! its own invocation. Each candidate also gets its path
 //! depth: a large step proposes a fresh uniform depth with its fresh samples, small steps keep
@@ -17,28 +17,36 @@
 //! (`RenderParams::refreshes_group`).
 
 use shared::layout::{load_group, store_group};
-use shared::mmlt::{
-    bootstrap_key, ChainState, RenderParams, ESTIMATOR_PATH, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP,
-};
-use shared::mutation::{
-    apply_tree_level_step, descends_from_level_one, is_large_step, is_reject_large_step, large_step_depth,
-    reject_chain_samples, tree_candidate_samples, tree_level_step, tree_level_steps,
-};
+use shared::mmlt::ChainState;
+use shared::mutation::{is_large_step, large_step_depth};
 use shared::normalisation::bootstrap_depth;
+use shared::params::{bootstrap_key, RenderParams, ESTIMATOR_PATH, METHOD_REJECT_CHAIN, MODE_BOOTSTRAP};
+use shared::reject_chain::{is_reject_large_step, reject_chain_samples};
 use shared::rng::{self, RngKey};
-use spirv_std::glam::{UVec3, Vec4};
-use spirv_std::spirv;
+use shared::tree::{
+    apply_tree_level_step, descends_from_level_one, tree_candidate_samples, tree_level_step, tree_level_steps,
+};
+use spirv_std::glam::Vec4;
+
+stage! {
+    /// What `mutate` binds.
+    pub struct MutateIo<'a> {
+        0 params: uniform RenderParams,
+        1 chains: read ChainState,
+        2 chain_u: read f32,
+        /// The candidates' samples, SoA (`k + i·C`).
+        3 cand_u: write f32,
+        /// The candidates' path depths.
+        4 cand_depth: write u32,
+    }
+    entry "mutate_cs" (threads 64) => mutate;
+    bound;
+}
 
 /// The kernel body for candidate `k`. Dimensions are handled four at a time, one random hash
 /// per level serving four dimensions.
-pub fn mutate(
-    k: usize,
-    params: &RenderParams,
-    chains: &[ChainState],
-    chain_u: &[f32],
-    cand_u: &mut [f32],
-    cand_depth: &mut [u32],
-) {
+pub fn mutate(k: usize, io: MutateIo) {
+    let MutateIo { params, chains, chain_u, cand_u, cand_depth } = io;
     let k = k as u32;
     if k >= params.candidates {
         return;
@@ -150,17 +158,4 @@ pub fn mutate(
         }
         group += per_chain;
     }
-}
-
-/// Entry point: one invocation per candidate.
-#[spirv(compute(threads(64), entry_point_name = "mutate_cs"))]
-pub fn mutate_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] chains: &[ChainState],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] chain_u: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] cand_u: &mut [f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] cand_depth: &mut [u32],
-) {
-    mutate(id.x as usize, &params[0], chains, chain_u, cand_u, cand_depth);
 }

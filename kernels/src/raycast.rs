@@ -5,16 +5,26 @@
 //! invocations cast their j-th rays together, as they do in `trace` and `connect`; shorter
 //! lists are padded with `RAY_NONE`. Each invocation writes the sum of its answers.
 
-use shared::cwbvh::{WideBvh, WideNode};
-use shared::mmlt::RenderParams;
+use shared::params::RenderParams;
 use shared::ray_caster::RayCaster;
 use shared::rays::{cast, Ray};
-use shared::triangle::Triangle;
-use spirv_std::glam::UVec3;
-use spirv_std::spirv;
+
+stage! {
+    /// What `raycast` binds.
+    pub struct RaycastIo<'a> over scene R {
+        0 params: uniform RenderParams,
+        /// The rays, ray `j` of candidate `k` at `k + j·C`.
+        1 rays: read Ray,
+        /// The sum of each candidate's answers.
+        2 answers: write u32,
+    }
+    entry "raycast_cs" (threads 64) => raycast;
+}
 
 /// The kernel body for candidate `k` (`params.candidates` = C).
-pub fn raycast<R: RayCaster>(k: usize, params: &RenderParams, caster: &R, rays: &[Ray], answers: &mut [u32]) {
+pub fn raycast<R: RayCaster>(k: usize, io: RaycastIo<R>) {
+    let RaycastIo { params, scene, rays, answers } = io;
+    let caster = &scene.caster;
     let candidates = params.candidates as usize;
     if k >= candidates {
         return;
@@ -26,17 +36,4 @@ pub fn raycast<R: RayCaster>(k: usize, params: &RenderParams, caster: &R, rays: 
         j += candidates;
     }
     answers[k] = sum;
-}
-
-/// Entry point: one invocation per candidate.
-#[spirv(compute(threads(64), entry_point_name = "raycast_cs"))]
-pub fn raycast_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] nodes: &[WideNode],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] triangles: &[Triangle],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] rays: &[Ray],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] answers: &mut [u32],
-) {
-    raycast(id.x as usize, &params[0], &WideBvh { nodes, triangles }, rays, answers);
 }

@@ -1,4 +1,4 @@
-//! The `select` pass (seed §5.3): one invocation per chain evaluates the acceptance of its
+//! The `select` pass (the paper's §5.3): one invocation per chain evaluates the acceptance of its
 //! candidates over the targets c = luminance(F) — as a speculative tree of depth d (d = 1: the
 //! naive parallel MMLT) or as a reject chain of l proposals — writes one splat per distinct
 //! state (F/c times its expected-steps weight, the pixel as bits; zero-weight and invalid
@@ -6,15 +6,16 @@
 //! contribution and path depth).
 
 use shared::acceptance::is_valid_target;
+use shared::color::luminance;
 use shared::layout::{soa_index, splat_record};
-use shared::mmlt::{luminance, ChainState, RenderParams, METHOD_REJECT_CHAIN};
-use shared::mutation::{is_large_step, is_reject_large_step};
+use shared::mmlt::ChainState;
+use shared::mutation::is_large_step;
 use shared::normalisation::tally_large_step;
-use shared::reject_chain::{self, MAX_REJECT_CHAIN, MAX_REJECT_CHAIN_STATES};
+use shared::params::{RenderParams, METHOD_REJECT_CHAIN};
+use shared::reject_chain::{self, is_reject_large_step, MAX_REJECT_CHAIN, MAX_REJECT_CHAIN_STATES};
 use shared::rng::{self, RngKey};
 use shared::tree::{self, MAX_TREE_CANDIDATES, MAX_TREE_LEAVES, MAX_TREE_STATES};
-use spirv_std::glam::{UVec3, Vec4};
-use spirv_std::spirv;
+use spirv_std::glam::Vec4;
 
 /// What selection decided for one chain.
 struct Decision {
@@ -199,18 +200,27 @@ fn tally_large_steps(p: u32, params: &RenderParams, contributions: &[Vec4], stat
     }
 }
 
+stage! {
+    /// What `select` binds.
+    pub struct SelectIo<'a> {
+        0 params: uniform RenderParams,
+        /// The chains' states, moved on.
+        1 chains: write ChainState,
+        /// The chains' samples, SoA (`p + i·N`), moved on.
+        2 chain_u: write f32,
+        3 cand_u: read f32,
+        4 cand_depth: read u32,
+        5 contributions: read Vec4,
+        /// One record per distinct state of each chain.
+        6 splats: write Vec4,
+    }
+    entry "select_cs" (threads 64) => select;
+    bound;
+}
+
 /// The kernel body for chain `p`.
-#[allow(clippy::too_many_arguments)] // one slice per binding, as the entry point hands them over
-pub fn select(
-    p: usize,
-    params: &RenderParams,
-    chains: &mut [ChainState],
-    chain_u: &mut [f32],
-    cand_u: &[f32],
-    cand_depth: &[u32],
-    contributions: &[Vec4],
-    splats: &mut [Vec4],
-) {
+pub fn select(p: usize, io: SelectIo) {
+    let SelectIo { params, chains, chain_u, cand_u, cand_depth, contributions, splats } = io;
     let p = p as u32;
     if p >= params.chains {
         return;
@@ -239,27 +249,11 @@ pub fn select(
     chains[p as usize] = state;
 }
 
-/// Entry point: one invocation per chain.
-#[allow(clippy::too_many_arguments)]
-#[spirv(compute(threads(64), entry_point_name = "select_cs"))]
-pub fn select_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] chains: &mut [ChainState],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] chain_u: &mut [f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] cand_u: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 4)] cand_depth: &[u32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 5)] contributions: &[Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 6)] splats: &mut [Vec4],
-) {
-    select(id.x as usize, &params[0], chains, chain_u, cand_u, cand_depth, contributions, splats);
-}
-
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests {
     use super::*;
     use shared::layout::{pack_contribution, unpack_contribution, NO_PIXEL};
-    use shared::mmlt::{METHOD_REJECT_CHAIN, METHOD_TREE};
+    use shared::params::{METHOD_REJECT_CHAIN, METHOD_TREE};
     use spirv_std::glam::Vec3;
 
     fn params(method: u32, per_chain: u32) -> RenderParams {
@@ -282,7 +276,16 @@ mod tests {
         let cand_u: Vec<f32> = (0..cands.len() * 2).map(|i| 0.5 + i as f32 * 0.01).collect();
         let cand_depth = vec![4u32; cands.len()];
         let mut splats = vec![Vec4::ZERO; cands.len() + 1];
-        select(0, p, &mut chains, &mut chain_u, &cand_u, &cand_depth, cands, &mut splats);
+        let io = SelectIo {
+            params: p,
+            chains: &mut chains,
+            chain_u: &mut chain_u,
+            cand_u: &cand_u,
+            cand_depth: &cand_depth,
+            contributions: cands,
+            splats: &mut splats,
+        };
+        select(0, io);
         (chains[0], splats, chain_u)
     }
 

@@ -20,8 +20,6 @@ use shared::mutation::{small_step, small_step_offset, MutationParams};
 use shared::reject_chain::{self, MAX_REJECT_CHAIN, MAX_REJECT_CHAIN_STATES};
 use shared::rng::{self, RngKey};
 use shared::tree::{self, MAX_TREE_CANDIDATES, MAX_TREE_LEAVES, MAX_TREE_STATES};
-use spirv_std::glam::UVec3;
-use spirv_std::spirv;
 
 /// A speculative tree case.
 pub const CASE_TREE: u32 = 0;
@@ -94,8 +92,22 @@ fn store<const N: usize>(dst: &mut [f32], start: usize, src: &[f32; N], n: usize
     }
 }
 
+stage! {
+    /// What `selftest` binds.
+    pub struct SelftestIo<'a> {
+        0 cases: read SelfTestCase,
+        1 inputs: read f32,
+        /// The float results, [`SelfTestCase::float_outputs`] a case.
+        2 out_f: write f32,
+        /// The integer results.
+        3 out_u: write u32,
+    }
+    entry "selftest_cs" (threads 64) => selftest;
+}
+
 /// The kernel body: evaluates case `index`.
-pub fn selftest(index: usize, cases: &[SelfTestCase], inputs: &[f32], out_f: &mut [f32], out_u: &mut [u32]) {
+pub fn selftest(index: usize, io: SelftestIo) {
+    let SelftestIo { cases, inputs, out_f, out_u } = io;
     if index >= cases.len() {
         return;
     }
@@ -153,16 +165,4 @@ pub fn selftest(index: usize, cases: &[SelfTestCase], inputs: &[f32], out_f: &mu
         out_u[u + 3] = words[3];
         out_u[u + 4] = pixel;
     }
-}
-
-/// Entry point: one invocation per case.
-#[spirv(compute(threads(64), entry_point_name = "selftest_cs"))]
-pub fn selftest_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] cases: &[SelfTestCase],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] inputs: &[f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] out_f: &mut [f32],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 3)] out_u: &mut [u32],
-) {
-    selftest(id.x as usize, cases, inputs, out_f, out_u);
 }

@@ -5,9 +5,8 @@
 //! precision; on the host the same body adds to the f64 image directly.
 
 use shared::layout::unpack_contribution;
-use shared::mmlt::RenderParams;
-use spirv_std::glam::{UVec3, Vec4};
-use spirv_std::spirv;
+use shared::params::RenderParams;
+use spirv_std::glam::Vec4;
 
 /// Number of splat records of a dispatch: one per distinct state of every chain.
 pub fn splat_records(params: &RenderParams) -> u32 {
@@ -62,8 +61,21 @@ fn atomic_add_f32(image: &mut [u32], index: usize, value: f32) {
     }
 }
 
+stage! {
+    /// What `splat` binds.
+    pub struct SplatIo<'a> over image I {
+        0 params: uniform RenderParams,
+        1 splats: read Vec4,
+        /// The image the records add to.
+        2 image: sink I,
+    }
+    entry "splat_cs" (threads 64) => splat;
+    bound;
+}
+
 /// The kernel body for record `i`: records without a pixel (`NO_PIXEL`) add nothing.
-pub fn splat<S: SplatSink + ?Sized>(i: usize, params: &RenderParams, splats: &[Vec4], image: &mut S) {
+pub fn splat<S: SplatSink + ?Sized>(i: usize, io: SplatIo<S>) {
+    let SplatIo { params, splats, image } = io;
     if i as u32 >= splat_records(params) {
         return;
     }
@@ -75,17 +87,6 @@ pub fn splat<S: SplatSink + ?Sized>(i: usize, params: &RenderParams, splats: &[V
     image.add(base, rgb.x);
     image.add(base + 1, rgb.y);
     image.add(base + 2, rgb.z);
-}
-
-/// Entry point: one invocation per splat record.
-#[spirv(compute(threads(64), entry_point_name = "splat_cs"))]
-pub fn splat_cs(
-    #[spirv(global_invocation_id)] id: UVec3,
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 0)] params: &[RenderParams],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 1)] splats: &[Vec4],
-    #[spirv(storage_buffer, descriptor_set = 0, binding = 2)] image: &mut [u32],
-) {
-    splat(id.x as usize, &params[0], splats, image);
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]
@@ -118,7 +119,7 @@ mod tests {
             let pixel = (state % pixels as u32) as usize;
             let value = 0.1 + 0.3 * ((state >> 8) as f32 / (1u32 << 24) as f32);
             record[0] = pack_contribution(Vec3::new(value, 0.0, 0.0), 1.0, pixel as u32);
-            splat(0, &params, &record, &mut image[..]);
+            splat(0, SplatIo { params: &params, splats: &record, image: &mut image[..] });
             exact[pixel] += value as f64;
             undrained[pixel] += value;
             if (i + 1) % per_drain == 0 || i + 1 == total {

@@ -1,4 +1,4 @@
-//! The Metropolis–Hastings acceptance probability for symmetric proposals (seed Eq. 1):
+//! The Metropolis–Hastings acceptance probability for symmetric proposals (the paper's Eq. 1):
 //! `a(y|x) = min(1, c(y) / c(x))`, where `c` is the scalar target (luminance of the path
 //! contribution). Kelemen mutations are symmetric in primary sample space, so the proposal
 //! densities cancel.

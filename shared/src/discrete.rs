@@ -1,5 +1,5 @@
 //! Drawing an index in proportion to non-negative weights by inverting their running sum.
-//! Used to draw a speculative tree's next state from its leaf probabilities (seed Eq. 2) and a
+//! Used to draw a speculative tree's next state from its leaf probabilities (the paper's Eq. 2) and a
 //! reject chain's next state from its outcome probabilities.
 
 /// Returns the first index `i < n` whose running sum of `weights[..=i]` exceeds

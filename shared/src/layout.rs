@@ -1,8 +1,8 @@
 //! How chain state and results sit in device buffers.
 //!
-//! - **SoA (seed §5.1):** variable i of chain p is stored at `p + i·N` (N chains), so the
+//! - **SoA (the paper's §5.1):** variable i of chain p is stored at `p + i·N` (N chains), so the
 //!   threads of a warp, which handle neighbouring chains, read neighbouring words.
-//! - **Packed contribution (seed §5.3):** a candidate's result is one `float4`: the rgb
+//! - **Packed contribution (the paper's §5.3):** a candidate's result is one `float4`: the rgb
 //!   contribution times its weight in xyz, and the pixel index stored as the *bits* of w
 //!   (`__int_as_float`), so one 16-byte access carries both. A candidate that lands on no
 //!   pixel stores [`NO_PIXEL`].

@@ -9,14 +9,18 @@
 //! - [`acceptance`]: the Metropolis–Hastings acceptance `a(y|x) = min(1, c(y)/c(x))`;
 //! - [`normalisation`]: the image normalisation b, from the bootstrap and every large step;
 //! - [`discrete`]: drawing an index in proportion to weights;
-//! - [`tree`]: the speculative mutation tree (seed §4, Eq. 2 and Eq. 3 generalised);
-//! - [`reject_chain`]: the reject chain of Byrd et al. (seed §3.3);
+//! - [`tree`]: the speculative mutation tree (the paper's §4, Eq. 2 and Eq. 3 generalised);
+//! - [`reject_chain`]: the reject chain of Byrd et al. (the paper's §3.3);
 //! - [`layout`]: SoA indexing and the packed `float4` contribution;
-//! - [`camera`], [`bsdf`], [`light`], [`triangle`]: the scene primitives;
-//! - [`ray_caster`]: the one seam between the path code and ray casting, and [`cwbvh`], the
+//! - [`camera`], [`bsdf`], [`light`], [`triangle`]: the scene primitives, and [`color`]'s
+//!   luminance;
+//! - [`params`]: what every dispatch of the chains' stages knows;
+//! - [`ray_caster`]: the one seam between the path code and ray casting (and the ray origin
+//!   offset every path code uses), and [`cwbvh`], the
 //!   device's caster (a compressed 8-wide BVH); [`scene`]: what the kernels read of a scene;
 //! - [`mmlt`]: Multiplexed MLT path sampling (the trace and connect stages);
-//! - [`path_tracer`]: the independent reference estimator;
+//! - [`path_tracer`]: the path tracer (`pt`, and the ground truth), which shares no path code
+//!   with [`mmlt`];
 //! - [`pssmlt`]: Metropolis chains over the path tracer's estimate (the path estimator);
 //! - [`rays`]: ray queries as data, for the bench's bare ray throughput.
 #![cfg_attr(target_arch = "spirv", no_std)]
@@ -25,6 +29,7 @@
 pub mod acceptance;
 pub mod bsdf;
 pub mod camera;
+pub mod color;
 pub mod cwbvh;
 pub mod discrete;
 pub mod layout;
@@ -32,6 +37,7 @@ pub mod light;
 pub mod mmlt;
 pub mod mutation;
 pub mod normalisation;
+pub mod params;
 pub mod path_tracer;
 pub mod pssmlt;
 pub mod ray_caster;

@@ -10,6 +10,49 @@ use spirv_std::num_traits::Float;
 
 use glam::{Vec2, Vec3};
 
+use crate::bsdf::Material;
+use crate::triangle::Triangle;
+
+/// A point sampled on the lights.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LightPoint {
+    /// The point.
+    pub p: Vec3,
+    /// The light's normal there (its triangle's geometric normal).
+    pub n: Vec3,
+    /// Its triangle.
+    pub triangle: u32,
+    /// The triangle's material.
+    pub material: u32,
+    /// The area density the point was sampled with (`Triangle::light_area_pdf`).
+    pub pdf_area: f32,
+    /// Emitted radiance of the light's material (`Material::emission`).
+    pub emission: Vec3,
+}
+
+/// Picks a light point from `u_pick` and `u_point` (area density `triangle.light_area_pdf`).
+#[inline]
+pub fn sample_light(
+    lights: &[LightEntry],
+    light_count: u32,
+    tris: &[Triangle],
+    materials: &[Material],
+    u_pick: f32,
+    u_point: Vec2,
+) -> LightPoint {
+    let entry = lights[pick_light(lights, light_count, u_pick) as usize];
+    let tri = tris[entry.triangle as usize];
+    let b = uniform_triangle(u_point);
+    LightPoint {
+        p: tri.point(b.x, b.y),
+        n: tri.normal(),
+        triangle: entry.triangle,
+        material: tri.material,
+        pdf_area: tri.light_area_pdf,
+        emission: Vec3::from_array(materials[tri.material as usize].emission),
+    }
+}
+
 /// One entry of the light-selection CDF (uploaded to the device as it is).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]

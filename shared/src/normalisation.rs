@@ -1,7 +1,7 @@
 //! The image normalisation b: the total of the target over the whole sample space,
 //! `b = Σ_k ∫ c_k(u) du = (k_max + 1) · E[c]` where (u, depth) is drawn uniformly (Kelemen et
 //! al. 2002, §4; pbrt-v3's `MLTIntegrator` bootstrap) — for the multiplexed estimator; the path
-//! estimator's state u spans every depth at once and its b is E[c] (`crate::mmlt::state_depths`
+//! estimator's state u spans every depth at once and its b is E[c] (`crate::params::state_depths`
 //! is the factor). The chains only say how b is spread
 //! over the pixels; b sets the image's overall brightness, so its error is in every pixel.
 //!
@@ -118,7 +118,7 @@ impl Estimate {
 }
 
 /// b = depths · mean(c) over `m`, and its standard error from the sample variance; `depths`
-/// is how many path depths a chain state spans (`crate::mmlt::state_depths`: max_depth + 1
+/// is how many path depths a chain state spans (`crate::params::state_depths`: max_depth + 1
 /// for the multiplexed estimator, 1 for the path estimator).
 #[cfg(not(target_arch = "spirv"))]
 pub fn estimate(depths: u32, m: &Moments) -> Estimate {

@@ -1,4 +1,4 @@
-//! The reference estimator: unidirectional path tracing with next-event estimation and
+//! The path tracer (`--method pt`, and the ground truth of `smlt reference`): unidirectional path tracing with next-event estimation and
 //! multiple importance sampling (power heuristic) between light sampling and BSDF sampling.
 //! It shares the scene's primitives (camera, BSDFs, lights, BVH) with the renderer but none of
 //! the MMLT path code, so agreement between the two is evidence for both.
@@ -21,17 +21,18 @@ use glam::{Vec2, Vec3};
 use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample};
 use crate::camera::Camera;
 use crate::light::emitted;
-use crate::mmlt::{sample_light, spawn};
+use crate::light::sample_light;
+use crate::ray_caster::spawn;
 use crate::ray_caster::RayCaster;
 use crate::rng::{self, RngKey};
 use crate::scene::Scene;
 use crate::triangle::NO_HIT;
 
-/// What the reference kernel knows (uploaded before each of its rounds: a round adds
-/// `samples` samples to every pixel, and the rounds' spread estimates the reference's noise).
+/// What the path tracer's kernel knows (uploaded before each of its rounds: a round adds
+/// `samples` samples to every pixel, and the rounds' spread estimates a reference's noise).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct ReferenceParams {
+pub struct PathTracerParams {
     #[allow(missing_docs)] // named for what it is
     pub camera: Camera,
     /// Image width in pixels.
@@ -83,7 +84,7 @@ pub fn continuation_probability(beta: Vec3) -> f32 {
     }
 }
 
-/// Where a path's uniforms come from: the reference's random numbers ([`KeyedSamples`]), or a
+/// Where a path's uniforms come from: the path tracer's random numbers ([`KeyedSamples`]), or a
 /// Metropolis chain's primary sample vector (`crate::pssmlt`). One path tracer, two sources.
 pub trait PathSamples {
     /// The two uniforms of the raster position (vertex 0).
@@ -93,7 +94,7 @@ pub trait PathSamples {
     fn vertex(&self, v: u32) -> [f32; 6];
 }
 
-/// The reference's uniforms: counter-based random numbers keyed by (seed, pixel, sample,
+/// The path tracer's uniforms: counter-based random numbers keyed by (seed, pixel, sample,
 /// vertex).
 #[derive(Clone, Copy)]
 pub struct KeyedSamples {
@@ -136,16 +137,9 @@ pub struct PathSettings {
     pub epsilon: f32,
 }
 
-impl From<&ReferenceParams> for PathSettings {
+impl From<&PathTracerParams> for PathSettings {
     #[inline]
-    fn from(p: &ReferenceParams) -> Self {
-        Self { camera: p.camera, max_depth: p.max_depth, light_count: p.light_count, epsilon: p.epsilon }
-    }
-}
-
-impl From<&crate::mmlt::RenderParams> for PathSettings {
-    #[inline]
-    fn from(p: &crate::mmlt::RenderParams) -> Self {
+    fn from(p: &PathTracerParams) -> Self {
         Self { camera: p.camera, max_depth: p.max_depth, light_count: p.light_count, epsilon: p.epsilon }
     }
 }
@@ -214,18 +208,17 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
             u[0],
             Vec2::new(u[1], u[2]),
         );
-        let q = Vec3::from_array(ls.vertex.p);
-        let nq = Vec3::from_array(ls.vertex.n);
+        let (q, nq) = (ls.p, ls.n);
         let to_light = q - p;
         let dist2 = to_light.length_squared();
-        if dist2 > 0.0 && ls.vertex.pdf_fwd > 0.0 {
+        if dist2 > 0.0 && ls.pdf_area > 0.0 {
             let dist = dist2.sqrt();
             let wl = to_light / dist;
             let le = emitted(ls.emission, nq, -wl);
             let f = bsdf_eval(&m, n, wo, wl);
             let cos_l = nq.dot(wl).abs();
             if le.max_element() > 0.0 && f.max_element() > 0.0 && cos_l > 0.0 {
-                let pdf_light = ls.vertex.pdf_fwd * dist2 / cos_l;
+                let pdf_light = ls.pdf_area * dist2 / cos_l;
                 let from = spawn(p, n, wl, settings.epsilon);
                 let target = spawn(q, nq, -wl, settings.epsilon);
                 let span = target - from;
@@ -260,7 +253,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
 /// One path-traced estimate of the radiance through a uniform point of pixel `pixel`.
 #[inline]
 pub fn pixel_sample<R: RayCaster>(
-    params: &ReferenceParams,
+    params: &PathTracerParams,
     scene: Scene<R>,
     pixel: u32,
     sample: u32,
@@ -275,7 +268,7 @@ pub fn pixel_sample<R: RayCaster>(
 
 /// `params.samples` samples of pixel `pixel` for round `params.round`, summed.
 #[inline]
-pub fn pixel_round<R: RayCaster>(params: &ReferenceParams, scene: Scene<R>, pixel: u32) -> Vec3 {
+pub fn pixel_round<R: RayCaster>(params: &PathTracerParams, scene: Scene<R>, pixel: u32) -> Vec3 {
     let mut sum = Vec3::ZERO;
     let mut i = 0;
     while i < params.samples {

@@ -9,13 +9,13 @@
 //! **Pixel importance.** The contribution is F(u)/Ĩ_j, with Ĩ_j > 0 a fixed estimate of pixel
 //! j's luminance made before the chains start (`importance` buffer, one value a pixel), so the
 //! target is c(u) = luminance(F(u))/Ĩ_j and b = E[c] over uniform u
-//! (`crate::mmlt::state_depths` is 1). A luminance target spends the chains' steps in
+//! (`crate::params::state_depths` is 1). A luminance target spends the chains' steps in
 //! proportion to each pixel's brightness, so dark pixels get few and a relative error is worst
 //! there; with Ĩ ≈ I every pixel gets about the same share (as a path tracer's samples) while,
 //! inside a pixel, the chains still follow the light. Any positive Ĩ gives the same image: the
 //! host multiplies pixel j's sums by Ĩ_j when it drains them.
 //!
-//! The chains, trees, reject chains, acceptance and splats are the seed's, and so are the
+//! The chains, trees, reject chains, acceptance and splats are the paper's, and so are the
 //! mutations but for two things: the raster position's own largest small step
 //! (`crate::mutation::MutationParams::image_s2`) and, in the naive and reject chains' small
 //! steps, fresh uniforms for the groups of dimensions the state's path never read
@@ -27,10 +27,20 @@
 use glam::{Vec2, Vec4};
 
 use crate::layout::pack_over_importance;
-use crate::mmlt::{RenderParams, Samples};
+use crate::mmlt::Samples;
+use crate::params::RenderParams;
 use crate::path_tracer::{trace_path, PathSamples, PathSettings};
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
+
+/// The path tracer's settings of a chains' dispatch: the path estimator traces the path
+/// tracer's paths.
+impl From<&RenderParams> for PathSettings {
+    #[inline]
+    fn from(p: &RenderParams) -> Self {
+        Self { camera: p.camera, max_depth: p.max_depth, light_count: p.light_count, epsilon: p.epsilon }
+    }
+}
 
 /// The dimensions (2) of the raster position, as fractions of the image's width and height.
 pub const PATH_DIM_RASTER: u32 = 0;

@@ -49,3 +49,14 @@ impl<T: RayCaster> RayCaster for &T {
         (**self).occluded(o, d, tmin, tmax)
     }
 }
+
+/// A ray origin moved off the surface at `p` (normal `n`) to the side `d` leaves on.
+#[inline]
+pub fn spawn(p: Vec3, n: Vec3, d: Vec3, epsilon: f32) -> Vec3 {
+    let scale = epsilon * (1.0 + p.abs().max_element());
+    if n.dot(d) >= 0.0 {
+        p + n * scale
+    } else {
+        p - n * scale
+    }
+}

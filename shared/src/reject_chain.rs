@@ -1,4 +1,4 @@
-//! The reject chain of length l (Byrd et al. 2010; seed §3.3): l proposals are all made from
+//! The reject chain of length l (Byrd et al. 2010; the paper's §3.3): l proposals are all made from
 //! the current state x and traced at once, then consumed in order until the first acceptance.
 //! Each consumed proposal is one ordinary Metropolis–Hastings step (a rejection leaves the
 //! chain at x, so the next proposal is still one from x), so the chain stays an exact MH chain
@@ -20,7 +20,11 @@
 //! iteration ends at a stopping time, right after an acceptance): only the step-weighted splats
 //! are, which is what the renderer accumulates.
 
+use glam::Vec4;
+
 use crate::acceptance::acceptance;
+use crate::mutation::{small_step_offsets, small_steps, MutationParams};
+use crate::rng::{self, RngKey};
 
 /// Longest reject chain supported.
 pub const MAX_REJECT_CHAIN: u32 = 64;
@@ -66,6 +70,42 @@ pub fn evaluate_reject_chain<const S: usize, const C: usize>(
 #[inline]
 pub fn select_next_state<const S: usize>(length: u32, next_probability: &[f32; S], xi: f32) -> u32 {
     crate::discrete::sample_discrete(next_probability, length + 1, xi)
+}
+
+/// The reject chain's mutations: each proposal is its own Kelemen mutation of the current
+/// state, a large step with probability p_large.
+/// Whether reject-chain proposal `i` (0-based) of `chain` at `iteration` is a large step:
+/// each proposal is an independent Kelemen mutation of the current state.
+#[inline]
+pub fn is_reject_large_step(seed: u32, chain: u32, iteration: u32, i: u32, p_large: f32) -> bool {
+    let key = RngKey {
+        seed,
+        chain,
+        iteration,
+        dimension: rng::dimension(rng::STREAM_CONTROL, rng::CONTROL_REJECT_LARGE_STEP + i),
+    };
+    rng::uniform(key) < p_large
+}
+
+/// Dimensions `4·group .. 4·group + 4` of reject-chain proposal `i` of the chain named by
+/// `key`, whose current values are `current`: a fresh uniform for a large step, else a small
+/// step by the proposal's own offset.
+#[inline]
+pub fn reject_chain_samples(
+    current: Vec4,
+    i: u32,
+    large_step: bool,
+    key: RngKey,
+    group: u32,
+    params: &MutationParams,
+) -> Vec4 {
+    if large_step {
+        return Vec4::from_array(rng::uniform4(key, rng::STREAM_REJECT_LARGE_STEP + i, group));
+    }
+    small_steps(
+        current,
+        small_step_offsets(rng::uniform4(key, rng::STREAM_REJECT_PERTURBATION + i, group), group, params),
+    )
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]

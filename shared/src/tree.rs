@@ -1,4 +1,4 @@
-//! The speculative mutation tree of depth d (seed §4): from the current state, the proposal
+//! The speculative mutation tree of depth d (the paper's §4): from the current state, the proposal
 //! at level j = 1..d is made for every one of the 2^(j−1) histories of accept/reject
 //! decisions before it, so one iteration evaluates 2^d − 1 candidates and advances the chain
 //! by d Metropolis–Hastings steps.
@@ -10,14 +10,14 @@
 //! `1 + k` for candidate k. After a history, the chain is in the candidate of the last
 //! accepted level, or at the root if every decision was a rejection ([`state_after`]).
 //!
-//! **Leaf probabilities (seed Eq. 2).** The probability of a full history of d decisions is the
+//! **Leaf probabilities (the paper's Eq. 2).** The probability of a full history of d decisions is the
 //! product of `a` or `1 − a` along it; the 2^d leaves sum to 1 and the next state is drawn from
 //! them.
 //!
-//! **Weights (seed Eq. 3, generalised).** Every distinct state is splatted with the expected
+//! **Weights (the paper's Eq. 3, generalised).** Every distinct state is splatted with the expected
 //! number of the d steps that the chain spends in it, given the tree:
 //! `w(s) = Σ_{j=1..d} Σ_{h : state_after(j, h) = s} P(h)`, where P(h) is the probability of the
-//! j-decision prefix h. The weights sum to d. For d = 2 this is exactly the seed's Eq. 3.
+//! j-decision prefix h. The weights sum to d. For d = 2 this is exactly the paper's Eq. 3.
 //! The seed's remark that for deeper trees "all (1 − a) become (2 − a)" does not hold beyond
 //! d = 2 (its weights would not sum to d); the forward pass here is checked against a
 //! brute-force enumeration of the chain instead (see the tests).
@@ -28,6 +28,9 @@
 //! chain costs a naive chain more than its whole selection.
 
 use crate::acceptance::acceptance;
+
+mod mutation;
+pub use mutation::*;
 
 /// Deepest tree supported (2^8 − 1 = 255 candidates per chain).
 pub const MAX_TREE_DEPTH: u32 = 8;
@@ -97,7 +100,7 @@ pub fn tree_acceptances<const S: usize, const C: usize>(depth: u32, c: &[f32; S]
     }
 }
 
-/// From the edge acceptances, the probability of every leaf (seed Eq. 2) into
+/// From the edge acceptances, the probability of every leaf (the paper's Eq. 2) into
 /// `leaf_probability[..2^d]` and the weight of every distinct state (Eq. 3 generalised) into
 /// `weight[..2^d]`, by one forward pass over the levels.
 #[inline]

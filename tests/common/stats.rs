@@ -8,7 +8,7 @@ pub fn block_means(rgb: &[f32], width: u32, height: u32, blocks: u32) -> Vec<f64
     for y in 0..height {
         for x in 0..width {
             let i = ((x + y * width) * 3) as usize;
-            let lum = shared::mmlt::luminance(glam::Vec3::new(rgb[i], rgb[i + 1], rgb[i + 2])) as f64;
+            let lum = shared::color::luminance(glam::Vec3::new(rgb[i], rgb[i + 1], rgb[i + 2])) as f64;
             let b = (x * blocks / width + (y * blocks / height) * blocks) as usize;
             sums[b] += lum;
             counts[b] += 1;

@@ -38,7 +38,7 @@ pub fn errors(image: &[f32], reference: &[f32]) -> Errors {
     }
 }
 
-/// A per-pixel error heat map (the seed's Fig. 1/8 style): the RMS error of each pixel's
+/// A per-pixel error heat map (the paper's Fig. 1/8 style): the RMS error of each pixel's
 /// channels, normalised by `scale`, mapped low → blue, medium → green, high → red.
 pub fn heat_map(image: &[f32], reference: &[f32], width: u32, height: u32, scale: f64) -> image::RgbImage {
     image::RgbImage::from_fn(width, height, |x, y| {

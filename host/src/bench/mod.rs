@@ -1,12 +1,12 @@
-//! `smlt bench`: the seed's evaluation on our scenes — equal-time runs of each method per
+//! `smlt bench`: the paper's evaluation on our scenes — equal-time runs of each method per
 //! scene/view in one process on one device, interleaved (every method is advanced in turns to
 //! the same render times 1, 2, 4, … s), each compared with the scene's reference image.
 //!
 //! Writes to the output folder: `results.csv` (one row per method and time: scene, view,
 //! method, seconds, candidates, steps, mutations/s, steps/s, RMSE, relMSE, PSNR, the
 //! candidates rejected as NaN/Inf, b and its relative standard error — error along time, so convergence is a curve; one scene,
-//! one method and a long time is the soak run), `tables.md` (the seed's Table 3: million mutations/s, and
-//! Table 4: PSNR after the full time), the plots of `plots` (`speedup.png`, the seed's Fig. 7,
+//! one method and a long time is the soak run), `tables.md` (the paper's Table 3: million mutations/s, and
+//! Table 4: PSNR after the full time), the plots of `plots` (`speedup.png`, the paper's Fig. 7,
 //! and `error_<scene>_v<view>.png`, RMSE against time on log–log axes), the final image of each
 //! method and error heat maps of naive and the best method (`metrics::heat_map`), and the cached
 //! references; and `passes.csv` and its tables (`profile`: each pass's time per
@@ -23,14 +23,11 @@ pub mod tables;
 
 use std::path::{Path, PathBuf};
 
-use shared::mmlt::RenderParams;
-use shared::mutation::MutationParams;
+use shared::params::RenderParams;
 
 use crate::gpu::Gpu;
 use crate::reference::{cached_or_render, ReferenceSettings};
-use crate::render::{
-    self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Sampler, Settings,
-};
+use crate::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Settings};
 use crate::scene::SceneData;
 use metrics::{errors, heat_map};
 use profile::{profile, profile_cpu, Profile};
@@ -41,22 +38,18 @@ use results::{final_row, Row, CSV_HEADER};
 pub struct BenchSettings {
     /// (scene name, view): generated scenes by name, or glTF paths.
     pub scenes: Vec<(String, u32)>,
-    /// Methods (with their estimators) to compare.
-    pub methods: Vec<Sampler>,
-    /// Render seconds per method.
-    pub seconds: f64,
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// Maximum number of bounces (pbrt's maxdepth).
-    pub max_depth: u32,
-    /// Seed of the first repeat (repeat r uses `seed + r`).
-    pub seed: u32,
-    /// Samples per pixel of the references.
-    pub reference_spp: u32,
+    /// Methods to compare.
+    pub methods: Vec<Method>,
+    /// Every method's render, but for its method (each takes the integrator its name gives,
+    /// with these chain settings), its seed (repeat r uses `seed + r`), its budget (`seconds`)
+    /// and, where `candidates` is None, its candidates (by device, as `smlt render`).
+    pub render: Settings,
     /// Candidates per iteration (None: by device, as `smlt render`).
     pub candidates: Option<u32>,
+    /// Render seconds per method.
+    pub seconds: f64,
+    /// Samples per pixel of the references.
+    pub reference_spp: u32,
     /// Tessellation of generated scenes.
     pub tessellation: u32,
     /// Threads of the CPU backend.
@@ -67,14 +60,19 @@ pub struct BenchSettings {
     pub reference: Option<PathBuf>,
     /// Folder for `results.csv`, `passes.csv`, `tables.md`, the plots and the references.
     pub out: PathBuf,
-    /// The Metropolis methods' mutation schedule.
-    pub mutation: MutationParams,
-    /// Largest small step of the image-plane position, for every method (None:
-    /// [`crate::render::DEFAULT_IMAGE_STEP`]).
-    pub image_step: Option<f32>,
-    /// Whether the Metropolis methods' targets are divided by the pixel importance
-    /// ([`crate::render::Settings::pixel_importance`]).
-    pub pixel_importance: bool,
+}
+
+impl BenchSettings {
+    /// The settings of `method`'s run in repeat `repeat` with `candidates` per iteration.
+    pub fn settings(&self, method: Method, repeat: u32, candidates: u32) -> Settings {
+        Settings {
+            seed: self.render.seed.wrapping_add(repeat),
+            budget: Budget::Seconds(self.seconds),
+            candidates,
+            shard: render::Shard::WHOLE,
+            ..self.render.clone().with_method(method)
+        }
+    }
 }
 
 /// The render times at which every method is measured: 1, 2, 4, … below `seconds`, and `seconds`.
@@ -131,11 +129,11 @@ fn reference_image(
     let rs = ReferenceSettings {
         scene: format!("{label} view {view}"),
         scene_hash,
-        width: b.width,
-        height: b.height,
-        max_depth: b.max_depth,
+        width: b.render.width,
+        height: b.render.height,
+        max_depth: b.render.max_depth,
         spp: b.reference_spp,
-        seed: b.seed.wrapping_add(1000),
+        seed: b.render.seed.wrapping_add(1000),
     };
     // On a CPU Vulkan driver the CPU backend renders the reference faster.
     let device = gpu.filter(|g| g.info.device_type != wgpu::DeviceType::Cpu);
@@ -155,12 +153,12 @@ fn given_reference(b: &BenchSettings, path: &Path) -> anyhow::Result<Vec<f32>> {
         );
     }
     let (w, h, rgb) = crate::output::read_exr(path)?;
-    if (w, h) != (b.width, b.height) {
+    if (w, h) != (b.render.width, b.render.height) {
         anyhow::bail!(
             "--reference {} is {w}×{h}, the bench renders {}×{}",
             path.display(),
-            b.width,
-            b.height
+            b.render.width,
+            b.render.height
         );
     }
     Ok(rgb)
@@ -189,25 +187,7 @@ fn equal_time(
 ) -> anyhow::Result<Vec<Vec<f32>>> {
     let EqualTime { scene, label, view, repeat, reference } = *run;
     let candidates = b.candidates.unwrap_or(render::default_candidates(gpu));
-    let settings: Vec<Settings> = b
-        .methods
-        .iter()
-        .map(|m| Settings {
-            width: b.width,
-            height: b.height,
-            max_depth: b.max_depth,
-            seed: b.seed.wrapping_add(repeat),
-            method: m.method,
-            estimator: m.estimator,
-            budget: Budget::Seconds(b.seconds),
-            candidates,
-            bootstrap_samples: render::DEFAULT_BOOTSTRAP,
-            mutation: b.mutation,
-            image_step: b.image_step,
-            pixel_importance: b.pixel_importance,
-            shard: render::Shard::WHOLE,
-        })
-        .collect();
+    let settings: Vec<Settings> = b.methods.iter().map(|&m| b.settings(m, repeat, candidates)).collect();
     // One backend per method, all on the same device: the device's kept as such, for the
     // per-pass profile after the equal-time runs.
     let mut gpu_backends: Vec<GpuBackend> = Vec::new();
@@ -257,12 +237,19 @@ fn equal_time(
     }
     // Inside an iteration: per-pass device times and the ray-casting ceiling, after the
     // equal-time runs so that they do not disturb them.
-    let next: Vec<RenderParams> = renderers.iter().map(Renderer::next_params).collect();
+    let next: Vec<RenderParams> = renderers
+        .iter()
+        .zip(&settings)
+        .map(|(r, s)| RenderParams {
+            iteration: r.stats().iterations as u32,
+            ..render::base_params(scene, s)
+        })
+        .collect();
     drop(renderers);
     if repeat == 0 {
         for (i, method) in b.methods.iter().enumerate() {
             // The profile looks inside the chains' iterations; the path tracer has one pass.
-            if method.method == Method::PathTracer {
+            if *method == Method::PathTracer {
                 continue;
             }
             let method = method.to_string();
@@ -293,9 +280,14 @@ fn write_finals(
     let scale = 2.0 * finals.iter().map(|r| r.errors.rmse).fold(0.0, f64::max).max(1e-6);
     for (i, m) in b.methods.iter().enumerate() {
         let stem = format!("{label}_v{view}_{m}");
-        crate::output::write_images(&b.out.join(format!("{stem}.exr")), b.width, b.height, &last[i])?;
-        if m.to_string() == "naive" || Some(m.to_string()) == best {
-            heat_map(&last[i], reference, b.width, b.height, scale)
+        crate::output::write_images(
+            &b.out.join(format!("{stem}.exr")),
+            b.render.width,
+            b.render.height,
+            &last[i],
+        )?;
+        if *m == Method::NAIVE || Some(m.to_string()) == best {
+            heat_map(&last[i], reference, b.render.width, b.render.height, scale)
                 .save(b.out.join(format!("heat_{stem}.png")))?;
         }
     }
@@ -314,7 +306,7 @@ fn write_results(
         b.out.join("results.csv"),
         csv(CSV_HEADER.to_string(), rows.iter().map(Row::csv).collect()),
     )?;
-    let methods: Vec<String> = b.methods.iter().map(Sampler::to_string).collect();
+    let methods: Vec<String> = b.methods.iter().map(Method::to_string).collect();
     let mut tables = tables::tables(&methods, b.seconds, rows);
     tables.push_str(&tables::reference_table(b, rows, noises));
     if !profiles.is_empty() {

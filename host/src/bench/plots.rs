@@ -1,5 +1,5 @@
 //! The bench's plots, drawn with plotters (text in the embedded DejaVu Sans, so no system font
-//! library is needed): the seed's Fig. 7 — speedup of candidates/s over naive against the
+//! library is needed): the paper's Fig. 7 — speedup of candidates/s over naive against the
 //! candidate-set size per chain, trees and reject chains per scene view — and the error
 //! against time on log–log axes, one line per method: the mean over the repeats, with the 95 %
 //! interval as error bars when there are several.
@@ -10,7 +10,7 @@ use std::sync::Once;
 use plotters::prelude::*;
 
 use crate::bench::results::{along_time, final_interval, first_seen, views, Row};
-use crate::render::Sampler;
+use crate::render::Method;
 
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
@@ -43,12 +43,12 @@ pub fn speedup_plot(rows: &[Row], path: &Path) -> anyhow::Result<()> {
             let Some(naive) = final_interval(rows, &scene, view, base, speed) else { continue };
             let mut points = vec![(1.0, 1.0)];
             for name in methods.iter().filter(|m| m.starts_with(prefix)) {
-                let (Ok(m), Some(x)) =
-                    (name.parse::<Sampler>(), final_interval(rows, &scene, view, name, speed))
+                let (Ok(Method::Metropolis { schedule, .. }), Some(x)) =
+                    (name.parse::<Method>(), final_interval(rows, &scene, view, name, speed))
                 else {
                     continue;
                 };
-                points.push((m.method.candidates_per_chain() as f64, x.mean / naive.mean));
+                points.push((schedule.candidates_per_chain() as f64, x.mean / naive.mean));
             }
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
             if points.len() > 1 {

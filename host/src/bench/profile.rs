@@ -18,7 +18,7 @@ use crate::render::gpu::{GpuBackend, PassTimes};
 use crate::render::{Backend, RenderError};
 use crate::scene::SceneData;
 use crate::timing::Clock;
-use shared::mmlt::RenderParams;
+use shared::params::RenderParams;
 
 /// Iterations timed per method.
 pub const TIMED_ITERATIONS: u32 = 16;

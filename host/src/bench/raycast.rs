@@ -8,13 +8,17 @@
 use std::cell::RefCell;
 
 use glam::{Vec3, Vec4};
-use shared::mmlt::{vertex_slots, PathInfo, PathVertex, RenderParams};
+use shared::mmlt::{vertex_slots, PathInfo, PathVertex};
+use shared::params::RenderParams;
 use shared::ray_caster::{Hit, RayCaster};
 use shared::rays::{Ray, RAY_CLOSEST, RAY_OCCLUSION};
 
 use crate::gpu::Gpu;
 use crate::passes;
-use crate::passes::buffers::{OnDevice, SceneBuffers};
+use kernels::connect::ConnectIo;
+use kernels::trace::TraceIo;
+
+use crate::passes::buffers::{OnDevice, SceneBuffers, Storage};
 use crate::render::RenderError;
 use crate::scene::SceneData;
 use crate::timing::{time_passes, Clock};
@@ -89,18 +93,26 @@ pub fn log_candidates(
     for k in 0..c {
         let log = Logged::new(caster);
         let logging = scene.with_caster(&log);
-        kernels::trace::trace(k, params, cand_depth, cand_u, logging, &mut vertices, &mut paths);
-        kernels::connect::connect(
-            k,
+        let trace = TraceIo {
+            params,
+            cand_depth,
+            cand_u,
+            vertices: &mut vertices,
+            paths: &mut paths,
+            scene: logging,
+        };
+        kernels::trace::trace(k, trace);
+        let connect = ConnectIo {
             params,
             cand_u,
-            logging,
-            &vertices,
-            &paths,
-            &importance,
-            &mut contributions,
-            &mut cand_depth_out,
-        );
+            vertices: &vertices,
+            paths: &paths,
+            importance: &importance,
+            contributions: &mut contributions,
+            cand_depth: &mut cand_depth_out,
+            scene: logging,
+        };
+        kernels::connect::connect(k, connect);
         per_candidate.push(log.into_rays());
     }
     let most = per_candidate.iter().map(Vec::len).max().unwrap_or(0);
@@ -151,10 +163,12 @@ fn replay_pass(
     }
     let params = RenderParams { candidates, ..Default::default() };
     let params_buffer = gpu.storage_from("raycast params", &[params]);
-    let b = SceneBuffers::new(&mut OnDevice(gpu.clone()), scene);
+    let mut storage = OnDevice::new(gpu.clone());
+    SceneBuffers::new(&mut storage, scene);
+    let scene_buffers = storage.registry();
     let rays = gpu.storage_from("replayed rays", rays);
     let answers = gpu.storage_zeroed::<u32>("ray answers", candidates as usize);
-    let pass = passes::raycast::gpu(gpu, [&params_buffer, &b.nodes, &b.triangles, &rays, &answers])?;
+    let pass = passes::raycast::gpu(gpu, [&params_buffer, &rays, &answers], &scene_buffers)?;
     Ok((pass, answers))
 }
 
@@ -189,14 +203,14 @@ pub fn replay(gpu: &Gpu, scene: &SceneData, log: &RayLog, repeats: u32) -> Resul
 /// nothing but the ray queries. Rays/s counts every thread together.
 pub fn replay_on_host(pool: &rayon::ThreadPool, scene: &SceneData, logs: &[RayLog], repeats: u32) -> Replay {
     use rayon::prelude::*;
-    let caster = scene.shared().caster;
+    let shared = scene.shared();
     let once = || -> Vec<Vec<u32>> {
         pool.install(|| {
             logs.par_iter()
                 .map(|log| {
                     let params = RenderParams { candidates: log.candidates, ..Default::default() };
                     let mut answers = vec![0u32; log.candidates as usize];
-                    passes::raycast::cpu(&params, &caster, &log.rays, &mut answers);
+                    passes::raycast::cpu(&params, shared, &log.rays, &mut answers);
                     answers
                 })
                 .collect()

@@ -1,4 +1,4 @@
-//! The bench's Markdown tables: the seed's Table 3 and Table 4 with RMSE, relMSE and
+//! The bench's Markdown tables: the paper's Table 3 and Table 4 with RMSE, relMSE and
 //! efficiency (means over the repeats with 95 % intervals, the best marked only where its
 //! interval overlaps no other), and the references' own noise.
 
@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use crate::bench::interval::{clear_best, Interval};
 use crate::bench::results::{final_interval, views, Row};
 use crate::bench::BenchSettings;
-use crate::render::{Estimator, Method, Sampler};
+use crate::render::{Estimator, Method};
 
 /// The seed's Table 3 (million mutations/s) and Table 4 (PSNR after the full time), with RMSE
 /// and relMSE, as Markdown: methods down, scene views across, each cell the mean over the
@@ -95,11 +95,10 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
 /// The method a row's candidates/s speedup is measured against: the naive chains of its own
 /// estimator; None for the path tracer and for peers.
 pub fn speedup_baseline(method: &str) -> Option<&'static str> {
-    match method.parse::<Sampler>() {
-        Ok(s) if s.method == Method::PathTracer => None,
-        Ok(s) if s.estimator == Estimator::Path => Some("path-naive"),
-        Ok(_) => Some("naive"),
-        Err(_) => None,
+    match method.parse::<Method>() {
+        Ok(Method::PathTracer) | Err(_) => None,
+        Ok(Method::Metropolis { estimator: Estimator::Path, .. }) => Some("path-naive"),
+        Ok(Method::Metropolis { estimator: Estimator::Multiplexed, .. }) => Some("naive"),
     }
 }
 
@@ -157,12 +156,9 @@ mod tests {
     fn the_reference_table_names_an_external_reference() {
         let mut b = BenchSettings {
             scenes: vec![("cornell".into(), 1)],
-            methods: vec!["naive".parse().unwrap()],
+            methods: vec![Method::NAIVE],
+            render: crate::render::Settings { width: 4, height: 4, max_depth: 3, ..Default::default() },
             seconds: 2.0,
-            width: 4,
-            height: 4,
-            max_depth: 3,
-            seed: 1,
             reference_spp: 512,
             candidates: None,
             tessellation: 1,
@@ -170,9 +166,6 @@ mod tests {
             repeats: 1,
             reference: None,
             out: "out".into(),
-            mutation: Default::default(),
-            image_step: None,
-            pixel_importance: true,
         };
         let noises = [("cornell".to_string(), 1, Some(0.01))];
         assert!(reference_table(&b, &[], &noises).contains("### References (512 spp;"));

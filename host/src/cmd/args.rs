@@ -1,10 +1,11 @@
 //! What several subcommands share: where the kernels run ([`DeviceArgs`], and the policy that
 //! turns them into a [`Device`]), which scene and view ([`SceneArgs`]), the path settings
-//! ([`PathArgs`]), and the parsers of bounded numbers whose errors name the flag's value.
+//! ([`PathArgs`]), the chains' settings ([`ChainArgs`]), and the parsers of bounded numbers whose errors name the flag's value.
 
 use std::path::PathBuf;
 
 use clap::ValueEnum;
+use shared::mutation::MutationParams;
 
 use crate::gpu::Gpu;
 use crate::render;
@@ -162,6 +163,42 @@ pub struct PathArgs {
     /// Seed of every random number.
     #[arg(long, default_value_t = 1)]
     pub seed: u32,
+}
+
+/// What the Metropolis chains share (render and bench; the path tracer ignores them).
+#[derive(clap::Args, Clone)]
+pub struct ChainArgs {
+    /// Bootstrap samples for the normalisation and the chains' start states.
+    #[arg(long, default_value_t = render::DEFAULT_BOOTSTRAP, value_parser = clap::value_parser!(u32).range(1..=67_108_864))]
+    pub bootstrap: u32,
+    /// Probability of a large step.
+    #[arg(long, default_value_t = MutationParams::default().p_large, value_parser = unit_f32)]
+    pub p_large: f32,
+    /// Largest small step of the image-plane position, as a fraction of the image (every other
+    /// dimension's is 1/64, Kelemen's s2; 0.015625 is the paper's schedule).
+    #[arg(long, default_value_t = render::DEFAULT_IMAGE_STEP, value_parser = step_f32)]
+    pub image_step: f32,
+    /// Chains follow the luminance of each contribution (the paper's target) instead of
+    /// dividing it by the pixel importance, a 4-spp estimate of each pixel's luminance that
+    /// gives every pixel about the same share of the steps. The same image either way, less
+    /// even noise.
+    #[arg(long)]
+    pub no_pixel_importance: bool,
+}
+
+impl ChainArgs {
+    /// The chains' settings these flags give.
+    pub fn settings(&self) -> render::ChainSettings {
+        render::ChainSettings {
+            bootstrap_samples: self.bootstrap,
+            mutation: MutationParams {
+                p_large: self.p_large,
+                image_s2: self.image_step,
+                ..Default::default()
+            },
+            pixel_importance: !self.no_pixel_importance,
+        }
+    }
 }
 
 /// An exposure in stops.

@@ -1,12 +1,10 @@
-//! `smlt bench`: the seed's evaluation — equal-time runs of the methods on scene views against
+//! `smlt bench`: the paper's evaluation — equal-time runs of the methods on scene views against
 //! their references (`crate::bench`).
 
 use std::path::PathBuf;
 
-use shared::mutation::MutationParams;
-
-use super::args::{positive_f64, step_f32, unit_f32, DeviceArgs, PathArgs};
-use crate::render::Sampler;
+use super::args::{positive_f64, ChainArgs, DeviceArgs, PathArgs};
+use crate::render::{Integrator, Method, Settings};
 
 /// A scene with an optional view: `atrium:2`.
 fn scene_view(s: &str) -> Result<(String, u32), String> {
@@ -28,8 +26,8 @@ pub struct Args {
     pub scenes: Vec<(String, u32)>,
     /// Methods, comma-separated (pt: the path tracer; path-<method>: the chains over the path
     /// tracer's estimate).
-    #[arg(long, value_delimiter = ',', default_value = "pt,naive,path-naive,s2,s3,s4,s5,s6,rc2,rc4,rc8,rc16,rc32,rc64", value_parser = |s: &str| s.parse::<Sampler>())]
-    pub methods: Vec<Sampler>,
+    #[arg(long, value_delimiter = ',', default_value = "pt,naive,path-naive,s2,s3,s4,s5,s6,rc2,rc4,rc8,rc16,rc32,rc64", value_parser = |s: &str| s.parse::<Method>())]
+    pub methods: Vec<Method>,
     /// Render seconds per method (errors are also measured at 1, 2, 4, … s).
     #[arg(long, default_value_t = 8.0, value_parser = positive_f64)]
     pub seconds: f64,
@@ -66,17 +64,9 @@ pub struct Args {
     /// Output folder.
     #[arg(long, default_value = "bench")]
     pub out: PathBuf,
-    /// Probability of a large step, for every Metropolis method (as `smlt render --p-large`).
-    #[arg(long, default_value_t = MutationParams::default().p_large, value_parser = unit_f32)]
-    pub p_large: f32,
-    /// Largest small step of the image-plane position, for every Metropolis method (as `smlt
-    /// render --image-step`; default 1/16).
-    #[arg(long, value_parser = step_f32)]
-    pub image_step: Option<f32>,
-    /// Every Metropolis method's target is the luminance of its contributions (as `smlt render
-    /// --no-pixel-importance`).
-    #[arg(long)]
-    pub no_pixel_importance: bool,
+    #[command(flatten)]
+    #[allow(missing_docs)] // flattened: documented on ChainArgs (every Metropolis method's)
+    pub chains: ChainArgs,
 }
 
 /// Runs `smlt bench`.
@@ -84,14 +74,19 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let device = a.device.open()?;
     println!("bench on {} — {}", device.describe(), device.why);
     println!("{}", crate::bench::results::CSV_HEADER);
-    let settings = crate::bench::BenchSettings {
-        scenes: a.scenes,
-        methods: a.methods,
-        seconds: a.seconds,
+    let render = Settings {
         width: a.width,
         height: a.height,
         max_depth: a.path.max_depth,
         seed: a.path.seed,
+        integrator: Integrator::new(Method::NAIVE, a.chains.settings()),
+        ..Default::default()
+    };
+    let settings = crate::bench::BenchSettings {
+        scenes: a.scenes,
+        methods: a.methods,
+        render,
+        seconds: a.seconds,
         reference_spp: a.reference_spp,
         candidates: a.candidates,
         tessellation: a.tessellation,
@@ -99,9 +94,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         repeats: a.repeats,
         reference: a.reference.clone(),
         out: a.out.clone(),
-        mutation: MutationParams { p_large: a.p_large, ..Default::default() },
-        image_step: a.image_step,
-        pixel_importance: !a.no_pixel_importance,
     };
     crate::bench::run(&settings, device.gpu.as_ref(), |line| println!("{line}"))?;
     println!("wrote {}/results.csv and {}/tables.md", a.out.display(), a.out.display());

@@ -39,17 +39,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         parts.len(),
         id.scene,
         id.view,
-        id.method,
-        id.seed
+        id.settings.method(),
+        id.settings.seed
     );
     for p in &parts {
         println!(
             "  shard {}/{}          {} iterations in {:.2} s on {}",
-            p.shard, id.shard_count, p.iterations, p.render_seconds, p.device
+            p.shard, id.settings.shard.count, p.iterations, p.render_seconds, p.device
         );
     }
-    let sampler: crate::render::Sampler = id.method.parse().map_err(anyhow::Error::msg)?;
-    super::render::print_summary(&merged, sampler.method, id.p_large);
+    super::render::print_summary(&merged, &id.settings);
     println!(
         "wrote                {} and {} (PNG at {ev:+.2} EV)",
         a.out.display(),

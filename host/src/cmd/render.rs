@@ -8,11 +8,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use shared::mutation::MutationParams;
 
-use super::args::{exposure, positive_f64, step_f32, unit_f32, DeviceArgs, ImageArgs, PathArgs, SceneArgs};
+use super::args::{exposure, positive_f64, ChainArgs, DeviceArgs, ImageArgs, PathArgs, SceneArgs};
 use crate::output::Exposure;
-use crate::render::{self, Budget, Method, Sampler, Settings, Shard};
+use crate::render::{self, Budget, Integrator, Method, Settings, Shard};
 
 /// `smlt render`'s flags.
 #[derive(clap::Args)]
@@ -22,9 +21,9 @@ pub struct Args {
     pub scene: SceneArgs,
     /// pt (the path tracer), naive, s<d> (speculative tree of depth d = 1..8; s1 is naive), or
     /// rc<l> (reject chain of l = 2..64 proposals); path-naive, path-s<d>, path-rc<l>: the same
-    /// chains over the path tracer's estimate instead of the seed's multiplexed paths.
-    #[arg(long, default_value = "naive", value_parser = |s: &str| s.parse::<Sampler>())]
-    pub method: Sampler,
+    /// chains over the path tracer's estimate instead of the paper's multiplexed paths.
+    #[arg(long, default_value = "naive", value_parser = |s: &str| s.parse::<Method>())]
+    pub method: Method,
     /// Stop after this many seconds of iterations (after the bootstrap).
     #[arg(long, value_parser = positive_f64, conflicts_with = "mutations_per_pixel", allow_negative_numbers = true)]
     pub time: Option<f64>,
@@ -58,21 +57,9 @@ pub struct Args {
     /// iteration, as whole samples per pixel (at least one).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16_777_216))]
     pub candidates: Option<u32>,
-    /// Bootstrap samples for the normalisation and the chains' start states.
-    #[arg(long, default_value_t = render::DEFAULT_BOOTSTRAP, value_parser = clap::value_parser!(u32).range(1..=67_108_864))]
-    pub bootstrap: u32,
-    /// Probability of a large step.
-    #[arg(long, default_value_t = MutationParams::default().p_large, value_parser = unit_f32)]
-    pub p_large: f32,
-    /// Largest small step of the image-plane position, as a fraction of the image (default 1/16;
-    /// every other dimension's is 1/64, Kelemen's s2; 0.015625 is the seed's schedule).
-    #[arg(long, value_parser = step_f32)]
-    pub image_step: Option<f32>,
-    /// Chains follow the luminance of each contribution (the seed's target) instead of dividing
-    /// it by the pixel importance, a 4-spp estimate of each pixel's luminance that gives every
-    /// pixel about the same share of the steps. The same image either way, less even noise.
-    #[arg(long)]
-    pub no_pixel_importance: bool,
+    #[command(flatten)]
+    #[allow(missing_docs)] // flattened: documented on ChainArgs
+    pub chains: ChainArgs,
     /// Write the image so far every this many seconds (Ctrl-C always writes it once more).
     #[arg(long, value_parser = positive_f64, allow_negative_numbers = true)]
     pub checkpoint: Option<f64>,
@@ -152,17 +139,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         height: a.image.height(&scene),
         max_depth: a.path.max_depth,
         seed: a.path.seed,
-        method: a.method.method,
-        estimator: a.method.estimator,
+        integrator: Integrator::new(a.method, a.chains.settings()),
         budget,
         candidates: a.candidates.unwrap_or(render::default_candidates(device.gpu.as_ref())),
-        bootstrap_samples: a.bootstrap,
-        mutation: MutationParams { p_large: a.p_large, ..Default::default() },
-        image_step: a.image_step,
-        pixel_importance: !a.no_pixel_importance,
         shard: a.shard.unwrap_or(Shard::WHOLE),
     };
-    if settings.method != Method::PathTracer && settings.shard.count > settings.chains() {
+    if settings.metropolis().is_some() && settings.shard.count > settings.chains() {
         anyhow::bail!(
             "--shard {}: the render has only {} chains to split; use at most {} shards or more --candidates",
             settings.shard,
@@ -178,8 +160,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     println!("device: {} — {why}", backend.describe());
     let buffers_mib = crate::passes::buffers::device_bytes(&scene, &params) as f64 / 1048576.0;
-    let work = match settings.method {
-        Method::PathTracer => format!(
+    let work = match settings.integrator {
+        Integrator::PathTracer => format!(
             "{} samples per pixel an iteration{}",
             settings.samples_per_round(),
             match a.shard {
@@ -187,7 +169,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 None => String::new(),
             }
         ),
-        _ => format!(
+        Integrator::Metropolis(_) => format!(
             "{} chains{}, {} candidates per iteration",
             params.chains,
             match a.shard {
@@ -202,7 +184,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         scene.name,
         settings.width,
         settings.height,
-        settings.sampler()
+        settings.method()
     );
     let bar = ProgressBar::new(1000);
     bar.set_style(
@@ -253,7 +235,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             )
         }
     };
-    print_summary(&result, settings.method, settings.mutation.p_large);
+    print_summary(&result, &settings);
     if on_device {
         println!("device buffers       {buffers_mib:.1} MiB");
     }
@@ -267,10 +249,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The closing summary of a render or a merge.
-pub fn print_summary(r: &render::Rendered, method: Method, p_large: f32) {
+/// The closing summary of a render or a merge with `settings`.
+pub fn print_summary(r: &render::Rendered, settings: &Settings) {
     let s = &r.stats;
-    if method == Method::PathTracer {
+    let Some(m) = settings.metropolis() else {
         let pixels = r.width as f64 * r.height as f64;
         println!("iterations           {}", s.iterations);
         println!("paths traced         {}", s.candidates);
@@ -283,7 +265,7 @@ pub fn print_summary(r: &render::Rendered, method: Method, p_large: f32) {
         }
         println!("render time          {:.2} s", s.render_seconds);
         return;
-    }
+    };
     println!("chains               {}", s.chains);
     println!("iterations           {}", s.iterations);
     println!("candidates traced    {}", s.candidates);
@@ -298,7 +280,7 @@ pub fn print_summary(r: &render::Rendered, method: Method, p_large: f32) {
     println!("acceptance rate      {:.3}", s.acceptance);
     let source = if s.large_steps > 0 {
         format!("{} bootstrap + {} large-step samples", s.bootstrap_samples, s.large_steps)
-    } else if p_large > 0.0 {
+    } else if m.chains.mutation.p_large > 0.0 {
         format!("{} bootstrap samples (no large step yet)", s.bootstrap_samples)
     } else {
         format!("{} bootstrap samples only (--p-large 0: no large steps refine it)", s.bootstrap_samples)

@@ -69,6 +69,17 @@ pub enum GpuError {
         /// wgpu's validation message, on one line.
         message: String,
     },
+    /// A stage's declared binding has no buffer of its name and element type (a build
+    /// problem: `kernels::stage` and the backend's buffers disagree).
+    #[error("kernel {entry} binds {binding}, but {problem}")]
+    Binding {
+        /// The kernel's entry-point name.
+        entry: String,
+        /// The binding's name, as the stage declares it.
+        binding: String,
+        /// What is wrong with it.
+        problem: String,
+    },
     /// A buffer could not be read back.
     #[error("reading a buffer back from the device failed: {0}")]
     Readback(String),
@@ -112,7 +123,7 @@ pub struct Gpu {
 }
 
 type Pipelines =
-    std::collections::HashMap<(String, Vec<bool>), (wgpu::ComputePipeline, wgpu::BindGroupLayout)>;
+    std::collections::HashMap<(String, Vec<Vec<bool>>), (wgpu::ComputePipeline, Vec<wgpu::BindGroupLayout>)>;
 
 impl Gpu {
     /// Opens the best Vulkan adapter (discrete, integrated, virtual, then CPU such as lavapipe)
@@ -209,18 +220,19 @@ impl Gpu {
         )
     }
 
-    /// A compute pipeline for entry point `entry` whose bindings 0.. are storage buffers,
-    /// `read_only[i]` saying which ones the kernel only reads.
+    /// A compute pipeline for entry point `entry` whose descriptor sets 0, 1, … hold storage
+    /// buffers at bindings 0.., `sets[s][i]` saying whether the kernel only reads binding `i` of
+    /// set `s`; with the sets' layouts.
     pub fn pipeline(
         &self,
         entry: &str,
-        read_only: &[bool],
-    ) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
-        let key = (entry.to_string(), read_only.to_vec());
+        sets: &[Vec<bool>],
+    ) -> Result<(wgpu::ComputePipeline, Vec<wgpu::BindGroupLayout>), GpuError> {
+        let key = (entry.to_string(), sets.to_vec());
         if let Some(hit) = self.pipelines.lock().expect("pipeline cache").get(&key) {
             return Ok(hit.clone());
         }
-        let built = self.build_pipeline(entry, read_only)?;
+        let built = self.build_pipeline(entry, sets)?;
         self.pipelines.lock().expect("pipeline cache").insert(key, built.clone());
         Ok(built)
     }
@@ -228,30 +240,36 @@ impl Gpu {
     fn build_pipeline(
         &self,
         entry: &str,
-        read_only: &[bool],
-    ) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
+        sets: &[Vec<bool>],
+    ) -> Result<(wgpu::ComputePipeline, Vec<wgpu::BindGroupLayout>), GpuError> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let entries: Vec<wgpu::BindGroupLayoutEntry> = read_only
+        let set_layouts: Vec<wgpu::BindGroupLayout> = sets
             .iter()
-            .enumerate()
-            .map(|(i, &read_only)| wgpu::BindGroupLayoutEntry {
-                binding: i as u32,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
+            .map(|read_only| {
+                let entries: Vec<wgpu::BindGroupLayoutEntry> = read_only
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &read_only)| wgpu::BindGroupLayoutEntry {
+                        binding: i as u32,
+                        visibility: wgpu::ShaderStages::COMPUTE,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Storage { read_only },
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    })
+                    .collect();
+                self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some(entry),
+                    entries: &entries,
+                })
             })
             .collect();
-        let bind_layout = self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(entry),
-            entries: &entries,
-        });
+        let layout_refs: Vec<Option<&wgpu::BindGroupLayout>> = set_layouts.iter().map(Some).collect();
         let layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(entry),
-            bind_group_layouts: &[Some(&bind_layout)],
+            bind_group_layouts: &layout_refs,
             immediate_size: 0,
         });
         let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -266,7 +284,7 @@ impl Gpu {
             let message = format!("{e}").split_whitespace().collect::<Vec<_>>().join(" ");
             return Err(GpuError::Pipeline { entry: entry.to_string(), message });
         }
-        Ok((pipeline, bind_layout))
+        Ok((pipeline, set_layouts))
     }
 
     /// Saves the driver's pipeline cache to disk (where the adapter has one), so that the next
@@ -321,12 +339,13 @@ impl Gpu {
     }
 
     /// Records one dispatch of `threads` invocations of a 1-D kernel with workgroups of
-    /// `kernels::WORKGROUP_SIZE`, in a compute pass of its own that writes `timestamps`, if any.
+    /// `kernels::WORKGROUP_SIZE` and `bind_groups` at sets 0, 1, …, in a compute pass of its own
+    /// that writes `timestamps`, if any.
     pub fn dispatch(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipeline: &wgpu::ComputePipeline,
-        bind_group: &wgpu::BindGroup,
+        bind_groups: &[wgpu::BindGroup],
         threads: u32,
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
@@ -334,7 +353,9 @@ impl Gpu {
         let mut pass = encoder
             .begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: timestamps });
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, bind_group, &[]);
+        for (set, group) in bind_groups.iter().enumerate() {
+            pass.set_bind_group(set as u32, group, &[]);
+        }
         pass.dispatch_workgroups(groups, 1, 1);
     }
 

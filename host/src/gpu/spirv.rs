@@ -10,8 +10,9 @@ pub struct EntryInterface {
     pub name: String,
     /// `LocalSize` (x, y, z).
     pub workgroup_size: [u32; 3],
-    /// (binding, writable) of each descriptor the entry point's interface holds.
-    pub bindings: Vec<(u32, bool)>,
+    /// (descriptor set, binding, writable) of each descriptor the entry point's interface
+    /// holds, in set and binding order.
+    pub bindings: Vec<(u32, u32, bool)>,
 }
 
 /// The entry points of a SPIR-V module (SPIR-V ≥ 1.4, where an entry point's interface lists
@@ -23,9 +24,11 @@ pub fn spirv_interfaces(words: &[u32]) -> Vec<EntryInterface> {
     const LOCAL_SIZE: u32 = 17;
     const NON_WRITABLE: u32 = 24;
     const BINDING: u32 = 33;
+    const DESCRIPTOR_SET: u32 = 34;
     let mut entries: Vec<(u32, String, Vec<u32>)> = Vec::new();
     let mut sizes: Vec<(u32, [u32; 3])> = Vec::new();
     let mut binding_of: std::collections::HashMap<u32, u32> = Default::default();
+    let mut set_of: std::collections::HashMap<u32, u32> = Default::default();
     let mut read_only: std::collections::HashSet<u32> = Default::default();
     let mut i = 5; // after the header
     while i < words.len() {
@@ -52,6 +55,9 @@ pub fn spirv_interfaces(words: &[u32]) -> Vec<EntryInterface> {
             OP_DECORATE if count >= 4 && op[2] == BINDING => {
                 binding_of.insert(op[1], op[3]);
             }
+            OP_DECORATE if count >= 4 && op[2] == DESCRIPTOR_SET => {
+                set_of.insert(op[1], op[3]);
+            }
             _ => {}
         }
         i += count;
@@ -59,9 +65,12 @@ pub fn spirv_interfaces(words: &[u32]) -> Vec<EntryInterface> {
     entries
         .into_iter()
         .map(|(function, name, interface)| {
-            let mut bindings: Vec<(u32, bool)> = interface
+            let mut bindings: Vec<(u32, u32, bool)> = interface
                 .iter()
-                .filter_map(|id| binding_of.get(id).map(|b| (*b, !read_only.contains(id))))
+                .filter_map(|id| {
+                    let set = set_of.get(id).copied().unwrap_or(0);
+                    binding_of.get(id).map(|b| (set, *b, !read_only.contains(id)))
+                })
                 .collect();
             bindings.sort_unstable();
             let workgroup_size = sizes.iter().find(|(f, _)| *f == function).map_or([0; 3], |(_, s)| *s);
@@ -92,17 +101,17 @@ mod tests {
 
     /// Every entry point runs `kernels::WORKGROUP_SIZE` invocations a workgroup (what the host
     /// declares when it hands the module to the driver unchanged, and divides dispatches by),
-    /// and binds descriptors 0, 1, … with no gap.
+    /// and binds exactly what its declaration (`kernels::stage`) lists: the same sets, numbers
+    /// and writability, so the host's binding lists, made from the declarations, match the
+    /// compiled module.
     #[test]
     fn module_workgroups_and_bindings_are_the_declared_ones() {
         let interfaces = spirv_interfaces(&wgpu::util::make_spirv_raw(KERNELS_SPV));
-        assert_eq!(interfaces.len(), kernels::ENTRY_POINTS.len());
+        assert_eq!(interfaces.len(), kernels::KERNELS.len());
         for e in &interfaces {
             assert_eq!(e.workgroup_size, [kernels::WORKGROUP_SIZE, 1, 1], "{}", e.name);
-            let numbers: Vec<u32> = e.bindings.iter().map(|(b, _)| *b).collect();
-            assert_eq!(numbers, (0..e.bindings.len() as u32).collect::<Vec<_>>(), "{}", e.name);
-            assert!(e.bindings.iter().any(|(_, writable)| *writable), "{} writes nothing", e.name);
-            assert!(e.bindings.iter().any(|(_, writable)| !writable), "{}: no read-only binding", e.name);
+            let kernel = kernels::KERNELS.iter().find(|k| k.entry_point == e.name).expect("declared");
+            assert_eq!(e.bindings, kernel.interface(), "{}", e.name);
         }
     }
 }

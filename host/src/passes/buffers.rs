@@ -1,40 +1,78 @@
 //! The render's buffers, laid out once. [`DeviceBuffers`] is generic over where its buffers
 //! live — a [`Storage`]: device buffers ([`OnDevice`]), host vectors ([`OnHost`]), or only
 //! their byte sizes ([`Sizes`]) — so the device backend, the CPU backend's groups of chains and
-//! the reported device memory and limit checks all come from the same `new` functions.
+//! the reported device memory and limit checks all come from the same `new` functions. Each
+//! buffer is made under the name the kernels bind it by (`kernels::stage`): a device pass
+//! finds its buffers by those names, and the test below checks every stage's against [`Sizes`].
 
 use bytemuck::Pod;
 use glam::Vec4;
 use shared::bsdf::Material;
 use shared::cwbvh::WideNode;
 use shared::light::LightEntry;
-use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex, RenderParams, ESTIMATOR_PATH};
+use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex};
+use shared::params::{RenderParams, ESTIMATOR_PATH};
 use shared::triangle::Triangle;
 
-use super::Stage;
+use super::{Named, Stage};
 use crate::gpu::Gpu;
 use crate::scene::SceneData;
 
-/// Where buffers live: makes a buffer of `count` zeroed `T`s, or one holding `data`.
+/// Where buffers live: makes a buffer of `count` zeroed `T`s, or one holding `data`, under
+/// `name` (what a kernel binds it by: `kernels::stage`) and `label` (what a person reads).
 pub trait Storage {
     /// A buffer of `T`s.
     type Of<T: Pod>;
+    /// What the storage keeps of every buffer it made (by name, for binding them).
+    type Registry;
     /// `count` zeroed elements.
-    fn zeroed<T: Pod>(&mut self, name: &'static str, count: usize) -> Self::Of<T>;
+    fn zeroed<T: Pod>(&mut self, name: &'static str, label: &'static str, count: usize) -> Self::Of<T>;
     /// A copy of `data`.
-    fn copy_of<T: Pod>(&mut self, name: &'static str, data: &[T]) -> Self::Of<T>;
+    fn copy_of<T: Pod>(&mut self, name: &'static str, label: &'static str, data: &[T]) -> Self::Of<T>;
+    /// The buffers made so far, handed over (the storage forgets them).
+    fn registry(&mut self) -> Self::Registry;
 }
 
-/// Buffers on a Vulkan device (the handle shares the device).
-pub struct OnDevice(pub Gpu);
+/// Buffers on a Vulkan device (the handle shares the device), each also kept by name.
+pub struct OnDevice {
+    gpu: Gpu,
+    made: Vec<(&'static str, &'static str, wgpu::Buffer)>,
+}
+
+impl OnDevice {
+    /// Storage on `gpu`'s device.
+    pub fn new(gpu: Gpu) -> Self {
+        Self { gpu, made: Vec::new() }
+    }
+}
+
+/// Device buffers by name, with their element types (what [`Pass::new`](super::Pass::new)
+/// binds a kernel's declared bindings to).
+#[derive(Default)]
+pub struct Registry(Vec<(&'static str, &'static str, wgpu::Buffer)>);
+
+impl Registry {
+    /// The buffer named `name`.
+    pub fn named(&self, name: &str) -> Option<Named<'_>> {
+        self.0.iter().find(|(n, ..)| *n == name).map(|(_, element, buffer)| Named { buffer, element })
+    }
+}
 
 impl Storage for OnDevice {
     type Of<T: Pod> = wgpu::Buffer;
-    fn zeroed<T: Pod>(&mut self, name: &'static str, count: usize) -> wgpu::Buffer {
-        self.0.storage_zeroed::<T>(name, count)
+    type Registry = Registry;
+    fn zeroed<T: Pod>(&mut self, name: &'static str, label: &'static str, count: usize) -> wgpu::Buffer {
+        let buffer = self.gpu.storage_zeroed::<T>(label, count);
+        self.made.push((name, std::any::type_name::<T>(), buffer.clone()));
+        buffer
     }
-    fn copy_of<T: Pod>(&mut self, name: &'static str, data: &[T]) -> wgpu::Buffer {
-        self.0.storage_from(name, data)
+    fn copy_of<T: Pod>(&mut self, name: &'static str, label: &'static str, data: &[T]) -> wgpu::Buffer {
+        let buffer = self.gpu.storage_from(label, data);
+        self.made.push((name, std::any::type_name::<T>(), buffer.clone()));
+        buffer
+    }
+    fn registry(&mut self) -> Registry {
+        Registry(std::mem::take(&mut self.made))
     }
 }
 
@@ -43,26 +81,45 @@ pub struct OnHost;
 
 impl Storage for OnHost {
     type Of<T: Pod> = Vec<T>;
-    fn zeroed<T: Pod>(&mut self, _name: &'static str, count: usize) -> Vec<T> {
+    type Registry = ();
+    fn zeroed<T: Pod>(&mut self, _name: &'static str, _label: &'static str, count: usize) -> Vec<T> {
         vec![T::zeroed(); count]
     }
-    fn copy_of<T: Pod>(&mut self, _name: &'static str, data: &[T]) -> Vec<T> {
+    fn copy_of<T: Pod>(&mut self, _name: &'static str, _label: &'static str, data: &[T]) -> Vec<T> {
         data.to_vec()
     }
+    fn registry(&mut self) {}
 }
 
-/// No buffers: only each one's name and byte size, in layout order.
+/// One buffer as [`Sizes`] lists it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sized {
+    /// What a kernel binds it by.
+    pub name: &'static str,
+    /// What a person reads.
+    pub label: &'static str,
+    /// `std::any::type_name` of its element.
+    pub element: &'static str,
+    #[allow(missing_docs)] // its size
+    pub bytes: u64,
+}
+
+/// No buffers: only each one's name, element type and byte size, in layout order.
 #[derive(Default)]
-pub struct Sizes(pub Vec<(&'static str, u64)>);
+pub struct Sizes(pub Vec<Sized>);
 
 impl Storage for Sizes {
     type Of<T: Pod> = ();
-    fn zeroed<T: Pod>(&mut self, name: &'static str, count: usize) {
-        self.0.push((name, (count * std::mem::size_of::<T>()) as u64));
+    type Registry = ();
+    fn zeroed<T: Pod>(&mut self, name: &'static str, label: &'static str, count: usize) {
+        let element = std::any::type_name::<T>();
+        self.0.push(Sized { name, label, element, bytes: (count * std::mem::size_of::<T>()) as u64 });
     }
-    fn copy_of<T: Pod>(&mut self, name: &'static str, data: &[T]) {
-        self.0.push((name, std::mem::size_of_val(data) as u64));
+    fn copy_of<T: Pod>(&mut self, name: &'static str, label: &'static str, data: &[T]) {
+        let element = std::any::type_name::<T>();
+        self.0.push(Sized { name, label, element, bytes: std::mem::size_of_val(data) as u64 });
     }
+    fn registry(&mut self) {}
 }
 
 /// What an iteration's stages read and write for a set of chains: the whole render's on the
@@ -91,12 +148,13 @@ impl<S: Storage> IterationBuffers<S> {
     pub fn new(s: &mut S, params: &RenderParams) -> Self {
         let (c, n, dims) = (params.candidates as usize, params.chains as usize, params.dims as usize);
         Self {
-            chain_u: s.zeroed("chain samples", n * dims),
-            chains: s.zeroed("chain states", n),
-            cand_u: s.zeroed("candidate samples", c * dims),
-            cand_depth: s.zeroed("candidate depths", c),
+            chain_u: s.zeroed("chain_u", "chain samples", n * dims),
+            chains: s.zeroed("chains", "chain states", n),
+            cand_u: s.zeroed("cand_u", "candidate samples", c * dims),
+            cand_depth: s.zeroed("cand_depth", "candidate depths", c),
             // The path estimator keeps no subpath vertices (one element: a binding is never empty).
             vertices: s.zeroed(
+                "vertices",
                 "vertices",
                 if params.estimator == ESTIMATOR_PATH {
                     1
@@ -104,9 +162,9 @@ impl<S: Storage> IterationBuffers<S> {
                     c * vertex_slots(params.max_depth) as usize
                 },
             ),
-            paths: s.zeroed("path infos", c),
-            contributions: s.zeroed("contributions", c),
-            splats: s.zeroed("splat records", Stage::Splat.invocations(params) as usize),
+            paths: s.zeroed("paths", "path infos", c),
+            contributions: s.zeroed("contributions", "contributions", c),
+            splats: s.zeroed("splats", "splat records", Stage::Splat.invocations(params) as usize),
         }
     }
 }
@@ -124,17 +182,19 @@ pub struct SceneBuffers<S: Storage> {
 }
 
 impl<S: Storage> SceneBuffers<S> {
-    /// The buffers' names, as [`Sizes`] lists them.
-    pub const NAMES: [&'static str; 4] = ["BVH nodes", "triangles", "materials", "lights"];
-
-    /// The buffers of `scene`.
+    /// The buffers of `scene`, named as `kernels::stage::SCENE_BINDINGS` binds them.
     pub fn new(s: &mut S, scene: &SceneData) -> Self {
         Self {
-            nodes: s.copy_of(Self::NAMES[0], scene.wide_nodes()),
-            triangles: s.copy_of(Self::NAMES[1], &scene.triangles),
-            materials: s.copy_of(Self::NAMES[2], &scene.materials),
-            lights: s.copy_of(Self::NAMES[3], &scene.lights),
+            nodes: s.copy_of("nodes", "BVH nodes", scene.wide_nodes()),
+            triangles: s.copy_of("triangles", "triangles", &scene.triangles),
+            materials: s.copy_of("materials", "materials", &scene.materials),
+            lights: s.copy_of("lights", "lights", &scene.lights),
         }
+    }
+
+    /// Whether the buffer named `name` is one of the scene's.
+    pub fn holds(name: &str) -> bool {
+        kernels::stage::SCENE_BINDINGS.iter().any(|b| b.name == name)
     }
 }
 
@@ -146,32 +206,41 @@ pub struct DeviceBuffers<S: Storage> {
     pub iteration: IterationBuffers<S>,
     #[allow(missing_docs)] // the scene the stages read
     pub scene: SceneBuffers<S>,
-    /// The f32 image as bits, rgb per pixel.
-    pub image: S::Of<u32>,
+    /// The f32 image, rgb per pixel (the splats add to it as bits).
+    pub image: S::Of<f32>,
     /// Ĩ per pixel, the pixel importance (`crate::render::importance`; ones until the
     /// render sets it).
     pub importance: S::Of<f32>,
+    /// Every buffer above by name (on a device: what its passes bind).
+    pub registry: S::Registry,
 }
 
 impl<S: Storage> DeviceBuffers<S> {
     /// The buffers of a render of `scene` with `params`.
     pub fn new(s: &mut S, scene: &SceneData, params: &RenderParams) -> Self {
-        Self {
-            params: s.copy_of("params", &[*params]),
-            iteration: IterationBuffers::new(s, params),
-            scene: SceneBuffers::new(s, scene),
-            image: s.zeroed("image", (params.width * params.height) as usize * 3),
-            importance: s.copy_of("importance", &vec![1.0f32; (params.width * params.height) as usize]),
-        }
+        let params_buffer = s.copy_of("params", "params", &[*params]);
+        let iteration = IterationBuffers::new(s, params);
+        let scene = SceneBuffers::new(s, scene);
+        let pixels = (params.width * params.height) as usize;
+        let image = s.zeroed("image", "image", pixels * 3);
+        let importance = s.copy_of("importance", "importance", &vec![1.0f32; pixels]);
+        Self { params: params_buffer, iteration, scene, image, importance, registry: s.registry() }
     }
 }
 
 /// A render's buffers on a Vulkan device.
 pub type GpuBuffers = DeviceBuffers<OnDevice>;
 
-/// The device buffers of a render, by name, with their byte sizes (for the limits check
-/// before allocating, and the memory a render reports).
-pub fn buffer_sizes(scene: &SceneData, params: &RenderParams) -> Vec<(&'static str, u64)> {
+impl GpuBuffers {
+    /// The buffer a kernel binds by `name`.
+    pub fn named(&self, name: &str) -> Option<Named<'_>> {
+        self.registry.named(name)
+    }
+}
+
+/// The device buffers of a render with their names, element types and byte sizes (for the
+/// limits check before allocating, the memory a render reports, and the binding test).
+pub fn buffer_sizes(scene: &SceneData, params: &RenderParams) -> Vec<Sized> {
     let mut sizes = Sizes::default();
     DeviceBuffers::new(&mut sizes, scene, params);
     sizes.0
@@ -180,5 +249,59 @@ pub fn buffer_sizes(scene: &SceneData, params: &RenderParams) -> Vec<(&'static s
 /// Total bytes of a render's device buffers (the CPU backend holds the same, less the image
 /// and the scene, which it reads in place).
 pub fn device_bytes(scene: &SceneData, params: &RenderParams) -> u64 {
-    buffer_sizes(scene, params).iter().map(|(_, bytes)| bytes).sum()
+    buffer_sizes(scene, params).iter().map(|b| b.bytes).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use kernels::stage::{Binding, SCENE_BINDINGS};
+
+    use super::*;
+    use crate::passes::Stage;
+
+    /// Every binding a stage declares (`kernels::stage`) is a render buffer of that name and
+    /// element type, and the numbers count up from 0 in each set: the one declaration is all a
+    /// stage needs, on the device as on the CPU backend (whose `Bound` the compiler checks). A
+    /// buffer added to a declaration and not to the render fails here by name.
+    #[test]
+    fn every_stage_binds_render_buffers_by_name_and_type() {
+        let (_, scene, _) = crate::scenes::open(None, 1).unwrap();
+        let params = RenderParams {
+            width: 4,
+            height: 4,
+            chains: 2,
+            candidates: 2,
+            dims: 8,
+            tree_depth: 1,
+            max_depth: 3,
+            ..Default::default()
+        };
+        let sizes = buffer_sizes(&scene, &params);
+        let check = |stage: &str, set: &[Binding]| {
+            for (i, b) in set.iter().enumerate() {
+                assert_eq!(b.binding as usize, i, "{stage}: {} is binding {}, not {i}", b.name, b.binding);
+                let buffer = sizes.iter().find(|s| s.name == b.name);
+                let buffer =
+                    buffer.unwrap_or_else(|| panic!("{stage} binds {}, which no render buffer is", b.name));
+                assert_eq!(buffer.element, (b.element)(), "{stage}: {}'s element", b.name);
+            }
+        };
+        for stage in Stage::ITERATION {
+            check(stage.name(), stage.bindings());
+            if stage.binds_scene() {
+                check(stage.name(), SCENE_BINDINGS);
+            }
+        }
+        // The path tracer's pass binds its own params and the render's scene and image.
+        let own = ["params"];
+        for b in kernels::path_tracer::BINDINGS.iter().filter(|b| !own.contains(&b.name)) {
+            let buffer = sizes.iter().find(|s| s.name == b.name).expect(b.name);
+            assert_eq!(buffer.element, (b.element)(), "path_tracer: {}", b.name);
+        }
+        check("path_tracer", SCENE_BINDINGS);
+        // Names are unique, so a lookup by name is a lookup of one buffer.
+        for (i, a) in sizes.iter().enumerate() {
+            assert!(sizes[i + 1..].iter().all(|b| b.name != a.name), "{} twice", a.name);
+        }
+    }
 }

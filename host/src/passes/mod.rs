@@ -1,18 +1,14 @@
-//! One file a pass: which buffers the kernel binds (in binding order, and whether it only
-//! reads them), and the same kernel body run on the CPU. [`Pass`] is a compute pipeline with
-//! its bind group.
+//! The stages on the host: [`Stage`] walks a render's five, [`Pass`] is any kernel's compute
+//! pipeline with its buffers bound by the names its declaration gives (`kernels::stage`), and
+//! [`buffers`] lays out the render's buffers once for every backend.
 
 pub mod buffers;
-pub mod connect;
-pub mod mutate;
+pub mod path_tracer;
 pub mod raycast;
-pub mod reference;
-pub mod select;
 pub mod selftest;
-pub mod splat;
-pub mod trace;
 
-use shared::mmlt::RenderParams;
+use kernels::stage::{Binding, SCENE_BINDINGS};
+use shared::params::RenderParams;
 
 use crate::gpu::{Gpu, GpuError};
 
@@ -56,23 +52,39 @@ impl Stage {
     /// The kernel's entry point.
     pub fn entry_point(self) -> &'static str {
         match self {
-            Stage::Mutate => "mutate_cs",
-            Stage::Trace => "trace_cs",
-            Stage::Connect => "connect_cs",
-            Stage::Select => "select_cs",
-            Stage::Splat => "splat_cs",
+            Stage::Mutate => kernels::mutate::ENTRY_POINT,
+            Stage::Trace => kernels::trace::ENTRY_POINT,
+            Stage::Connect => kernels::connect::ENTRY_POINT,
+            Stage::Select => kernels::select::ENTRY_POINT,
+            Stage::Splat => kernels::splat::ENTRY_POINT,
+        }
+    }
+
+    /// The kernel's own bindings, as its declaration lists them.
+    pub fn bindings(self) -> &'static [Binding] {
+        match self {
+            Stage::Mutate => kernels::mutate::BINDINGS,
+            Stage::Trace => kernels::trace::BINDINGS,
+            Stage::Connect => kernels::connect::BINDINGS,
+            Stage::Select => kernels::select::BINDINGS,
+            Stage::Splat => kernels::splat::BINDINGS,
+        }
+    }
+
+    /// Whether the kernel binds the scene as well.
+    pub fn binds_scene(self) -> bool {
+        match self {
+            Stage::Mutate => kernels::mutate::BINDS_SCENE,
+            Stage::Trace => kernels::trace::BINDS_SCENE,
+            Stage::Connect => kernels::connect::BINDS_SCENE,
+            Stage::Select => kernels::select::BINDS_SCENE,
+            Stage::Splat => kernels::splat::BINDS_SCENE,
         }
     }
 
     /// The stage's compute pass over a render's device buffers.
     pub fn pass(self, gpu: &Gpu, b: &buffers::GpuBuffers) -> Result<Pass, GpuError> {
-        match self {
-            Stage::Mutate => mutate::gpu(gpu, b),
-            Stage::Trace => trace::gpu(gpu, b),
-            Stage::Connect => connect::gpu(gpu, b),
-            Stage::Select => select::gpu(gpu, b),
-            Stage::Splat => splat::gpu(gpu, b),
-        }
+        Pass::new(gpu, self.entry_point(), self.bindings(), self.binds_scene(), &|name| b.named(name))
     }
 
     /// Its position in [`Stage::ITERATION`].
@@ -91,39 +103,70 @@ impl Stage {
     }
 }
 
-/// How a kernel uses a storage buffer it binds (binding i is the i-th of the list).
+/// A device buffer found by the name a kernel binds it by, with its element type's name.
 #[derive(Clone, Copy)]
-pub enum Binding<'a> {
-    /// The kernel only reads it.
-    Read(&'a wgpu::Buffer),
-    /// The kernel writes it (and may read it).
-    Write(&'a wgpu::Buffer),
+pub struct Named<'a> {
+    #[allow(missing_docs)] // the buffer
+    pub buffer: &'a wgpu::Buffer,
+    /// `std::any::type_name` of its element.
+    pub element: &'static str,
 }
 
 /// A kernel ready to dispatch: its pipeline and its buffers bound.
 pub struct Pass {
     pipeline: wgpu::ComputePipeline,
-    bind_group: wgpu::BindGroup,
+    bind_groups: Vec<wgpu::BindGroup>,
     writable: Vec<bool>,
 }
 
 impl Pass {
-    /// Creates the pipeline for `entry` and binds `bindings` at 0...
-    pub fn new(gpu: &Gpu, entry: &str, bindings: &[Binding]) -> Result<Self, GpuError> {
-        let read_only: Vec<bool> = bindings.iter().map(|b| matches!(b, Binding::Read(_))).collect();
-        let (pipeline, layout) = gpu.pipeline(entry, &read_only)?;
-        let list: Vec<&wgpu::Buffer> = bindings
-            .iter()
-            .map(|b| match b {
-                Binding::Read(b) | Binding::Write(b) => *b,
-            })
-            .collect();
-        let bind_group = gpu.bind(&layout, &list);
-        let writable = read_only.iter().map(|r| !r).collect();
-        Ok(Self { pipeline, bind_group, writable })
+    /// Creates the pipeline for `entry` with `bindings` in set 0 (and the scene's in set 1 when
+    /// `binds_scene`), each bound to the buffer `find` gives for its name; refuses a binding
+    /// with no such buffer or one whose element type is not the declared one.
+    pub fn new<'b>(
+        gpu: &Gpu,
+        entry: &str,
+        bindings: &[Binding],
+        binds_scene: bool,
+        find: &dyn Fn(&str) -> Option<Named<'b>>,
+    ) -> Result<Self, GpuError> {
+        let mut sets = vec![bindings];
+        if binds_scene {
+            sets.push(SCENE_BINDINGS);
+        }
+        let mut buffers: Vec<Vec<&'b wgpu::Buffer>> = Vec::new();
+        for set in &sets {
+            let mut list = Vec::new();
+            for (i, b) in set.iter().enumerate() {
+                let problem = |problem: String| GpuError::Binding {
+                    entry: entry.to_string(),
+                    binding: b.name.to_string(),
+                    problem,
+                };
+                if b.binding as usize != i {
+                    return Err(problem(format!("as binding {} where {i} was next", b.binding)));
+                }
+                let named = find(b.name).ok_or_else(|| problem("no buffer has that name".to_string()))?;
+                if named.element != (b.element)() {
+                    return Err(problem(format!(
+                        "its buffer holds {} where the kernel reads {}",
+                        named.element,
+                        (b.element)()
+                    )));
+                }
+                list.push(named.buffer);
+            }
+            buffers.push(list);
+        }
+        let read_only: Vec<Vec<bool>> =
+            sets.iter().map(|set| set.iter().map(|b| b.access.read_only()).collect()).collect();
+        let (pipeline, layouts) = gpu.pipeline(entry, &read_only)?;
+        let bind_groups = layouts.iter().zip(&buffers).map(|(layout, list)| gpu.bind(layout, list)).collect();
+        let writable = bindings.iter().map(|b| !b.access.read_only()).collect();
+        Ok(Self { pipeline, bind_groups, writable })
     }
 
-    /// Whether the kernel may write each binding, in binding order (as its layout declares).
+    /// Whether the kernel may write each of its own bindings (set 0), in binding order.
     pub fn writable(&self) -> &[bool] {
         &self.writable
     }
@@ -142,7 +185,7 @@ impl Pass {
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
         if threads > 0 {
-            gpu.dispatch(encoder, &self.pipeline, &self.bind_group, threads, timestamps);
+            gpu.dispatch(encoder, &self.pipeline, &self.bind_groups, threads, timestamps);
         } else if timestamps.is_some() {
             // Nothing to run, but the queries must still be written.
             encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {

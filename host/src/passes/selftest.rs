@@ -1,8 +1,9 @@
 //! The `selftest` pass: runs `kernels::selftest` over a batch of cases on the device or on
 //! the CPU.
 
-use kernels::selftest::{selftest, SelfTestCase, U32_OUTPUTS_PER_CASE};
+use kernels::selftest::{SelfTestCase, SelftestIo, U32_OUTPUTS_PER_CASE};
 
+use super::{Named, Pass};
 use crate::gpu::{Gpu, GpuError};
 
 /// A batch of self-test cases with their inputs.
@@ -46,23 +47,35 @@ impl SelfTestBatch {
     /// Runs the kernel body on the CPU, case after case.
     pub fn run_cpu(&self) -> SelfTestOutputs {
         let mut out = self.zeroed_outputs();
-        for i in 0..self.cases.len() {
-            selftest(i, &self.cases, &self.inputs, &mut out.floats, &mut out.words);
-        }
+        let io = SelftestIo {
+            cases: &self.cases,
+            inputs: &self.inputs,
+            out_f: &mut out.floats,
+            out_u: &mut out.words,
+        };
+        io.run(self.cases.len());
         out
     }
 
     /// Runs `selftest_cs` on the device, one invocation per case.
     pub fn run_gpu(&self, gpu: &Gpu) -> Result<SelfTestOutputs, GpuError> {
-        let (pipeline, layout) = gpu.pipeline("selftest_cs", &[true, true, false, false])?;
+        use kernels::selftest::{BINDINGS, BINDS_SCENE, ENTRY_POINT};
         let zero = self.zeroed_outputs();
         let cases = gpu.storage_from("selftest cases", &self.cases);
         let inputs = gpu.storage_from("selftest inputs", &self.inputs);
         let floats = gpu.storage_from("selftest floats", &zero.floats);
         let words = gpu.storage_from("selftest words", &zero.words);
-        let bind = gpu.bind(&layout, &[&cases, &inputs, &floats, &words]);
+        let named = |buffer, element| Some(Named { buffer, element });
+        let find = |name: &str| match name {
+            "cases" => named(&cases, std::any::type_name::<SelfTestCase>()),
+            "inputs" => named(&inputs, std::any::type_name::<f32>()),
+            "out_f" => named(&floats, std::any::type_name::<f32>()),
+            "out_u" => named(&words, std::any::type_name::<u32>()),
+            _ => None,
+        };
+        let pass = Pass::new(gpu, ENTRY_POINT, BINDINGS, BINDS_SCENE, &find)?;
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        gpu.dispatch(&mut encoder, &pipeline, &bind, self.cases.len() as u32, None);
+        pass.encode(gpu, &mut encoder, self.cases.len() as u32);
         gpu.queue.submit([encoder.finish()]);
         Ok(SelfTestOutputs {
             floats: gpu.read(&floats, zero.floats.len())?,

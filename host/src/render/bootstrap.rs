@@ -13,14 +13,14 @@ use std::time::Instant;
 
 use glam::Vec4;
 use rayon::prelude::*;
-use shared::mmlt::{
-    bootstrap_sample, luminance, ChainState, RenderParams, BOOTSTRAP_ITERATION, MODE_BOOTSTRAP,
-};
+use shared::color::luminance;
+use shared::mmlt::ChainState;
 use shared::normalisation::{normalisation_sample, Moments};
+use shared::params::{bootstrap_sample, RenderParams, BOOTSTRAP_ITERATION, MODE_BOOTSTRAP};
 use shared::rng::{self, RngKey};
 
 use super::cpu::CpuBuffers;
-use super::{base_params, RenderError, Settings};
+use super::{base_params, Metropolis, RenderError, Settings};
 use crate::scene::SceneData;
 
 /// Samples traced per task of the pool.
@@ -39,14 +39,19 @@ pub struct Bootstrap {
     pub seconds: f64,
 }
 
-/// Traces `max(bootstrap samples, chains)` samples on the current rayon pool and starts the
-/// shard's chains; the contributions are divided by the pixel importance
-/// `importance` (`super::importance`).
-pub fn bootstrap(scene: &SceneData, s: &Settings, importance: &[f32]) -> Result<Bootstrap, RenderError> {
+/// Traces `max(bootstrap samples, chains)` samples for the chains `m` of a render with settings
+/// `s` on the current rayon pool and starts the shard's chains; the contributions are divided by
+/// the pixel importance `importance` (`super::importance`).
+pub fn bootstrap(
+    scene: &SceneData,
+    s: &Settings,
+    m: &Metropolis,
+    importance: &[f32],
+) -> Result<Bootstrap, RenderError> {
     let start = Instant::now();
     let base = base_params(scene, s);
     let importance: Arc<[f32]> = importance.into();
-    let total = s.bootstrap_samples.max(s.chains());
+    let total = m.chains.bootstrap_samples.max(s.chains());
     let batches: Vec<u32> = (0..total.div_ceil(BATCH)).collect();
     let (contributions, depths): (Vec<Vec4>, Vec<u32>) = {
         let traced: Vec<(Vec<Vec4>, Vec<u32>)> = batches

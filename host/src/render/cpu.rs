@@ -13,10 +13,18 @@ use std::sync::Arc;
 
 use glam::Vec4;
 use rayon::prelude::*;
-use shared::mmlt::{ChainState, RenderParams};
-use shared::path_tracer::ReferenceParams;
+use shared::mmlt::ChainState;
+use shared::params::RenderParams;
+use shared::path_tracer::PathTracerParams;
 use shared::ray_caster::RayCaster;
 use shared::scene::Scene;
+
+use kernels::connect::ConnectIo;
+use kernels::mutate::MutateIo;
+use kernels::select::SelectIo;
+use kernels::splat::SplatIo;
+use kernels::stage::Bound;
+use kernels::trace::TraceIo;
 
 use super::{Accumulation, Backend, RenderError};
 use crate::caster::HostCaster;
@@ -44,38 +52,32 @@ impl<'a, R: RayCaster + Sync> CpuBuffers<'a, R> {
         Self { scene, iteration: IterationBuffers::new(&mut OnHost, params), importance }
     }
 
-    /// Runs `stage` over these buffers: the kernel body once per invocation (the splat stage
-    /// adds the records to `image`, an f64 rgb image).
+    /// Runs `stage` over these buffers: the kernel body once per invocation, in order, over
+    /// the bindings its declaration takes by name (the splat stage adds the records to `image`,
+    /// an f64 rgb image).
     pub fn run(&mut self, stage: Stage, params: &RenderParams, image: &mut [f64]) {
         let b = &mut self.iteration;
-        let scene = self.scene;
+        let bound = Bound {
+            params,
+            chain_u: &mut b.chain_u,
+            chains: &mut b.chains,
+            cand_u: &mut b.cand_u,
+            cand_depth: &mut b.cand_depth,
+            vertices: &mut b.vertices,
+            paths: &mut b.paths,
+            contributions: &mut b.contributions,
+            splats: &mut b.splats,
+            importance: &self.importance,
+            image,
+            scene: self.scene,
+        };
+        let n = stage.invocations(params) as usize;
         match stage {
-            Stage::Mutate => {
-                passes::mutate::cpu(params, &b.chains, &b.chain_u, &mut b.cand_u, &mut b.cand_depth)
-            }
-            Stage::Trace => {
-                passes::trace::cpu(params, &b.cand_depth, &b.cand_u, scene, &mut b.vertices, &mut b.paths)
-            }
-            Stage::Connect => passes::connect::cpu(
-                params,
-                &b.cand_u,
-                scene,
-                &b.vertices,
-                &b.paths,
-                &self.importance,
-                &mut b.contributions,
-                &mut b.cand_depth,
-            ),
-            Stage::Select => passes::select::cpu(
-                params,
-                &mut b.chains,
-                &mut b.chain_u,
-                &b.cand_u,
-                &b.cand_depth,
-                &b.contributions,
-                &mut b.splats,
-            ),
-            Stage::Splat => passes::splat::cpu(params, &b.splats, image),
+            Stage::Mutate => MutateIo::from_bound(bound).run(n),
+            Stage::Trace => TraceIo::from_bound(bound).run(n),
+            Stage::Connect => ConnectIo::from_bound(bound).run(n),
+            Stage::Select => SelectIo::from_bound(bound).run(n),
+            Stage::Splat => SplatIo::from_bound(bound).run(n),
         }
     }
 
@@ -147,7 +149,8 @@ pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, RenderError> {
 impl<'a> CpuBackend<'a> {
     /// Allocates the groups' buffers for `params` and a pool of `threads` threads.
     pub fn new(scene: &'a SceneData, params: &RenderParams, threads: usize) -> Result<Self, RenderError> {
-        let per_group = (GROUP_CANDIDATES / params.candidates_per_chain()).max(1);
+        // The path tracer's parameters hold no chains (and so no candidates per chain): no groups.
+        let per_group = (GROUP_CANDIDATES / params.candidates_per_chain().max(1)).max(1);
         let mut groups = Vec::new();
         let mut first = 0;
         let ones: Arc<[f32]> = vec![1.0; (params.width * params.height) as usize].into();
@@ -213,13 +216,13 @@ impl CpuBackend<'_> {
 }
 
 impl Backend for CpuBackend<'_> {
-    /// The reference pass's body over the pixels on the pool, into an f32 round (as the device
+    /// The path tracer's round over the pixels on the pool, into an f32 round (as the device
     /// sums a pixel's samples), added to the f64 image.
-    fn trace_reference_round(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
+    fn trace_path_tracer_round(&mut self, params: &PathTracerParams) -> Result<(), RenderError> {
         self.round.clear();
         self.round.resize(self.image.len(), 0.0);
         let (scene, round) = (self.scene, &mut self.round);
-        self.pool.install(|| passes::reference::cpu(params, scene, round));
+        self.pool.install(|| passes::path_tracer::cpu(params, scene, round));
         for (a, v) in self.image.iter_mut().zip(&self.round) {
             *a += *v as f64;
         }

@@ -1,8 +1,9 @@
 //! The device backend: the render's buffers on the GPU and the five passes over them, or the
 //! path tracer's pass over the scene and the same image.
 
-use shared::mmlt::{ChainState, RenderParams};
-use shared::path_tracer::ReferenceParams;
+use shared::mmlt::ChainState;
+use shared::params::RenderParams;
+use shared::path_tracer::PathTracerParams;
 
 use super::{Accumulation, Backend, RenderError};
 use crate::gpu::Gpu;
@@ -17,8 +18,8 @@ pub struct GpuBackend {
     buffers: GpuBuffers,
     /// One pass per stage, in [`Stage::ITERATION`] order.
     passes: Vec<Pass>,
-    /// The `reference` pass (the path tracer's) and its parameters (made at its first use).
-    reference: Option<(wgpu::Buffer, Pass)>,
+    /// The `path_tracer` pass and its parameters (made at its first use).
+    path_tracer: Option<(wgpu::Buffer, Pass)>,
     pixels: usize,
     chains: u32,
     dims: u32,
@@ -29,9 +30,10 @@ impl GpuBackend {
     /// and builds the passes.
     pub fn new(gpu: Gpu, scene: &SceneData, params: &RenderParams) -> Result<Self, RenderError> {
         let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
-        for (name, size) in buffer_sizes(scene, params) {
+        for buffer in buffer_sizes(scene, params) {
+            let (name, size) = (buffer.label, buffer.bytes);
             if size > limit {
-                let remedy = if SceneBuffers::<Sizes>::NAMES.contains(&name) {
+                let remedy = if SceneBuffers::<Sizes>::holds(buffer.name) {
                     format!(
                         "the scene ({} triangles) is too large for this device: render it with --device cpu",
                         scene.triangles.len()
@@ -56,30 +58,19 @@ impl GpuBackend {
             )));
         }
         let pixels = (params.width * params.height) as usize;
-        let buffers = GpuBuffers::new(&mut OnDevice(gpu.clone()), scene, params);
+        let buffers = GpuBuffers::new(&mut OnDevice::new(gpu.clone()), scene, params);
         let passes = Stage::ITERATION.iter().map(|s| s.pass(&gpu, &buffers)).collect::<Result<_, _>>()?;
-        Ok(Self { gpu, buffers, passes, reference: None, pixels, chains: params.chains, dims: params.dims })
+        Ok(Self { gpu, buffers, passes, path_tracer: None, pixels, chains: params.chains, dims: params.dims })
     }
 
     /// Runs the path tracer's pass over `pixels` invocations with `params`, and waits.
-    fn dispatch_reference(&mut self, params: &ReferenceParams, pixels: u32) -> Result<(), RenderError> {
-        if self.reference.is_none() {
+    fn dispatch_path_tracer(&mut self, params: &PathTracerParams, pixels: u32) -> Result<(), RenderError> {
+        if self.path_tracer.is_none() {
             let buffer = self.gpu.storage_from("path tracer params", &[*params]);
-            let scene = &self.buffers.scene;
-            let pass = crate::passes::reference::gpu(
-                &self.gpu,
-                [
-                    &buffer,
-                    &scene.nodes,
-                    &scene.triangles,
-                    &scene.materials,
-                    &scene.lights,
-                    &self.buffers.image,
-                ],
-            )?;
-            self.reference = Some((buffer, pass));
+            let pass = crate::passes::path_tracer::gpu(&self.gpu, &buffer, &self.buffers)?;
+            self.path_tracer = Some((buffer, pass));
         }
-        let (buffer, pass) = self.reference.as_ref().expect("made above");
+        let (buffer, pass) = self.path_tracer.as_ref().expect("made above");
         self.gpu.queue.write_buffer(buffer, 0, bytemuck::bytes_of(params));
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         pass.encode(&self.gpu, &mut encoder, pixels);
@@ -148,16 +139,16 @@ impl Backend for GpuBackend {
     }
 
     /// One workgroup over an empty image (its invocations return at once).
-    fn warm_up_reference(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
-        self.dispatch_reference(&ReferenceParams { width: 0, height: 0, ..*params }, 1)?;
+    fn warm_up_path_tracer(&mut self, params: &PathTracerParams) -> Result<(), RenderError> {
+        self.dispatch_path_tracer(&PathTracerParams { width: 0, height: 0, ..*params }, 1)?;
         self.gpu.save_pipeline_cache();
         Ok(())
     }
 
-    /// The reference pass adds each pixel's samples to the image's f32 (no atomics: one
+    /// The path tracer's pass adds each pixel's samples to the image's f32 (no atomics: one
     /// invocation a pixel).
-    fn trace_reference_round(&mut self, params: &ReferenceParams) -> Result<(), RenderError> {
-        self.dispatch_reference(params, params.width * params.height)
+    fn trace_path_tracer_round(&mut self, params: &PathTracerParams) -> Result<(), RenderError> {
+        self.dispatch_path_tracer(params, params.width * params.height)
     }
 
     fn start(

@@ -6,10 +6,10 @@
 //! same image.
 
 use rayon::prelude::*;
-use shared::mmlt::luminance;
-use shared::path_tracer::{pixel_round, ReferenceParams};
+use shared::color::luminance;
+use shared::path_tracer::{pixel_round, PathTracerParams};
 
-use super::{path_params, Estimator, Settings};
+use super::{path_params, Estimator, Metropolis, Settings};
 use crate::scene::SceneData;
 
 /// Samples per pixel of the estimate.
@@ -35,10 +35,10 @@ pub fn importance_mix(estimator: Estimator) -> f32 {
     }
 }
 
-/// Ĩ for a render with settings `s`: [`IMPORTANCE_SPP`] path-traced samples of every pixel on
-/// the current rayon pool, then [`smooth_and_mix`].
-pub fn estimate_pixel_importance(scene: &SceneData, s: &Settings) -> Vec<f32> {
-    let params = ReferenceParams {
+/// Ĩ for the chains `m` of a render with settings `s`: [`IMPORTANCE_SPP`] path-traced samples
+/// of every pixel on the current rayon pool, then [`smooth_and_mix`].
+pub fn estimate_pixel_importance(scene: &SceneData, s: &Settings, m: &Metropolis) -> Vec<f32> {
+    let params = PathTracerParams {
         samples: IMPORTANCE_SPP,
         samples_per_round: IMPORTANCE_SPP,
         round: IMPORTANCE_ROUND,
@@ -50,7 +50,7 @@ pub fn estimate_pixel_importance(scene: &SceneData, s: &Settings) -> Vec<f32> {
         .into_par_iter()
         .map(|j| luminance(pixel_round(&params, view, j)) / IMPORTANCE_SPP as f32)
         .collect();
-    smooth_and_mix(&estimate, s.width, s.height, importance_mix(s.estimator))
+    smooth_and_mix(&estimate, s.width, s.height, importance_mix(m.estimator))
 }
 
 /// Ĩ from a noisy luminance estimate `l` (row-major, `width`×`height`): the mean of each pixel's

@@ -13,16 +13,18 @@ pub mod renderer;
 pub mod settings;
 
 pub use accumulation::Accumulation;
-pub use estimator::{Estimator, Sampler};
-pub use method::Method;
+pub use estimator::Estimator;
+pub use method::{Method, Schedule};
 pub use renderer::{normalisation, render, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};
 pub use settings::{
-    base_params, default_candidates, path_params, reference_params, Budget, Settings, Shard,
-    DEFAULT_BOOTSTRAP, DEFAULT_IMAGE_STEP, DEFAULT_MAX_DEPTH, DEFAULT_MUTATIONS_PER_PIXEL, DEFAULT_WIDTH,
+    base_params, default_candidates, path_params, path_tracer_params, Budget, ChainSettings, Integrator,
+    Metropolis, Settings, Shard, DEFAULT_BOOTSTRAP, DEFAULT_IMAGE_STEP, DEFAULT_MAX_DEPTH,
+    DEFAULT_MUTATIONS_PER_PIXEL, DEFAULT_WIDTH,
 };
 
-use shared::mmlt::{ChainState, RenderParams};
-use shared::path_tracer::ReferenceParams;
+use shared::mmlt::ChainState;
+use shared::params::RenderParams;
+use shared::path_tracer::PathTracerParams;
 
 /// Why a render failed.
 #[derive(Debug, thiserror::Error)]
@@ -55,12 +57,12 @@ pub trait Backend {
         Ok(())
     }
     /// Prepares the path tracer's kernel (`--method pt`), as [`Backend::warm_up`] the chains'.
-    fn warm_up_reference(&mut self, _params: &ReferenceParams) -> Result<(), RenderError> {
+    fn warm_up_path_tracer(&mut self, _params: &PathTracerParams) -> Result<(), RenderError> {
         Ok(())
     }
     /// One round of the path tracer: `params.samples` paths through every pixel, added to the
     /// image that the next [`Backend::drain`] moves.
-    fn trace_reference_round(&mut self, params: &ReferenceParams) -> Result<(), RenderError>;
+    fn trace_path_tracer_round(&mut self, params: &PathTracerParams) -> Result<(), RenderError>;
     /// Sets the chains' samples (SoA) and states, and the pixel importance Ĩ their contributions
     /// are divided by (ones with `--no-pixel-importance`).
     fn start(

@@ -10,13 +10,13 @@
 
 use std::time::Instant;
 
-use shared::mmlt::RenderParams;
 use shared::normalisation::{estimate, Estimate, Moments};
-use shared::path_tracer::ReferenceParams;
+use shared::params::RenderParams;
+use shared::path_tracer::PathTracerParams;
 
 use super::bootstrap::{bootstrap, Bootstrap};
 use super::importance::estimate_pixel_importance;
-use super::{base_params, path_params, Accumulation, Backend, Budget, Method, RenderError, Settings};
+use super::{base_params, path_params, Accumulation, Backend, Budget, Integrator, RenderError, Settings};
 use crate::scene::SceneData;
 
 /// What a render measured.
@@ -26,7 +26,7 @@ pub struct Stats {
     pub chains: u32,
     /// Iterations run.
     pub iterations: u64,
-    /// Candidate paths traced (the seed's "mutations").
+    /// Candidate paths traced (the paper's "mutations").
     pub candidates: u64,
     /// Markov-chain steps advanced (total splat weight W).
     pub steps: f64,
@@ -88,27 +88,31 @@ pub fn normalisation(depths: u32, bootstrap: &Moments, acc: &Accumulation) -> Es
     estimate(depths, &bootstrap.merged(acc.large_steps))
 }
 
-/// b of a render by `method`: the Metropolis methods' [`normalisation`], exactly 1 for the
-/// path tracer (its splats are the samples themselves).
-fn method_normalisation(method: Method, depths: u32, bootstrap: &Moments, acc: &Accumulation) -> Estimate {
-    match method {
-        Method::PathTracer => Estimate { b: 1.0, standard_error: 0.0, samples: 0 },
-        _ => normalisation(depths, bootstrap, acc),
+/// b of a render by `integrator`: the Metropolis chains' [`normalisation`] with `max_depth`
+/// bounces, exactly 1 for the path tracer (its splats are the samples themselves).
+fn integrator_normalisation(
+    integrator: &Integrator,
+    max_depth: u32,
+    bootstrap: &Moments,
+    acc: &Accumulation,
+) -> Estimate {
+    match integrator {
+        Integrator::PathTracer => Estimate { b: 1.0, standard_error: 0.0, samples: 0 },
+        Integrator::Metropolis(m) => normalisation(m.state_depths(max_depth), bootstrap, acc),
     }
 }
 
 impl Rendered {
-    /// The normalised image `b · pixels · S_j / W` of an accumulation of a render by
-    /// `method` whose chain states span `depths` path depths; `stats` gets b, its error, the
-    /// steps, acceptance and NaN/Inf counts from it.
+    /// The normalised image `b · pixels · S_j / W` of an accumulation of a render with
+    /// settings `s`; `stats` gets b, its error, the steps, acceptance and NaN/Inf counts from it.
     pub fn from_accumulation(
-        (width, height): (u32, u32),
-        (method, depths): (Method, u32),
+        s: &Settings,
         bootstrap: Moments,
         accumulation: Accumulation,
         mut stats: Stats,
     ) -> Rendered {
-        let b = method_normalisation(method, depths, &bootstrap, &accumulation);
+        let (width, height) = (s.width, s.height);
+        let b = integrator_normalisation(&s.integrator, s.max_depth, &bootstrap, &accumulation);
         let pixels = width as f64 * height as f64;
         let w = accumulation.weight;
         let scale = if w > 0.0 { b.b * pixels / w } else { 0.0 };
@@ -161,18 +165,24 @@ impl<F: FnMut(f64)> Observer for F {
 /// Iterations between drains of the backend's image and tallies.
 pub const DRAIN_EVERY: u64 = 8;
 
-/// A render in progress: bootstrapped chains on a backend, advanced an iteration at a time, so
-/// that several methods can be advanced in turns (the bench interleaves them).
+/// What a render in progress iterates: the path tracer's rounds or the chains.
+enum Progress {
+    /// The path tracer's rounds' parameters.
+    PathTracer(PathTracerParams),
+    /// The chains' dispatch parameters, and the pixel importance Ĩ (None with
+    /// `--no-pixel-importance`), which the drained sums are multiplied by, with the
+    /// accumulation they are drained into first.
+    Metropolis { base: RenderParams, importance: Option<(Vec<f32>, Accumulation)> },
+}
+
+/// A render in progress: bootstrapped chains (or the path tracer) on a backend, advanced an
+/// iteration at a time, so that several methods can be advanced in turns (the bench
+/// interleaves them).
 pub struct Renderer<'a> {
     backend: &'a mut dyn Backend,
     settings: Settings,
-    base: RenderParams,
-    /// The path tracer's `reference` rounds' parameters (`--method pt`), None for the
-    /// Metropolis methods.
-    reference: Option<ReferenceParams>,
-    /// The pixel importance Ĩ (None with `--no-pixel-importance`), which the drained sums are
-    /// multiplied by, and the accumulation they are drained into first.
-    importance: Option<(Vec<f32>, Accumulation)>,
+    progress: Progress,
+    /// The bootstrap samples' moments (none for the path tracer).
     bootstrap: Moments,
     acc: Accumulation,
     stats: Stats,
@@ -190,54 +200,59 @@ impl<'a> Renderer<'a> {
         backend: &'a mut dyn Backend,
         observer: &mut dyn Observer,
     ) -> Result<Self, RenderError> {
-        let base = base_params(scene, s);
-        let reference = (s.method == Method::PathTracer).then(|| path_params(scene, s));
-        let compile_seconds = if backend.compiles_kernels() {
-            let compile = Instant::now();
-            observer.compiling();
-            match &reference {
-                Some(p) => backend.warm_up_reference(p)?,
-                None => backend.warm_up(&base)?,
-            }
-            observer.compiled();
-            Some(compile.elapsed().as_secs_f64())
-        } else {
-            None
-        };
-        let mut stats = Stats { compile_seconds, ..Default::default() };
-        let mut moments = Moments::default();
+        let compile_seconds =
+            |backend: &mut dyn Backend,
+             observer: &mut dyn Observer,
+             warm_up: &dyn Fn(&mut dyn Backend) -> Result<(), RenderError>| {
+                if !backend.compiles_kernels() {
+                    return Ok(None);
+                }
+                let compile = Instant::now();
+                observer.compiling();
+                warm_up(backend)?;
+                observer.compiled();
+                Ok::<_, RenderError>(Some(compile.elapsed().as_secs_f64()))
+            };
         let pixels = s.width as usize * s.height as usize;
-        let mut importance = None;
-        if reference.is_none() {
-            // On the backend's pool: the pixel importance (ones without it), then the bootstrap
-            // that uses it.
-            let prepare = || -> Result<(Bootstrap, Vec<f32>, Option<f64>), RenderError> {
-                let begin = Instant::now();
-                let (weights, seconds) = if s.pixel_importance {
-                    (estimate_pixel_importance(scene, s), Some(begin.elapsed().as_secs_f64()))
-                } else {
-                    (vec![1.0; pixels], None)
+        let mut stats = Stats::default();
+        let (progress, bootstrap_moments) = match &s.integrator {
+            Integrator::PathTracer => {
+                let params = path_params(scene, s);
+                stats.compile_seconds =
+                    compile_seconds(backend, observer, &|b| b.warm_up_path_tracer(&params))?;
+                (Progress::PathTracer(params), Moments::default())
+            }
+            Integrator::Metropolis(m) => {
+                let base = base_params(scene, s);
+                stats.compile_seconds = compile_seconds(backend, observer, &|b| b.warm_up(&base))?;
+                // On the backend's pool: the pixel importance (ones without it), then the
+                // bootstrap that uses it.
+                let prepare = || -> Result<(Bootstrap, Vec<f32>, Option<f64>), RenderError> {
+                    let begin = Instant::now();
+                    let (weights, seconds) = if m.chains.pixel_importance {
+                        (estimate_pixel_importance(scene, s, m), Some(begin.elapsed().as_secs_f64()))
+                    } else {
+                        (vec![1.0; pixels], None)
+                    };
+                    Ok((bootstrap(scene, s, m, &weights)?, weights, seconds))
                 };
-                Ok((bootstrap(scene, s, &weights)?, weights, seconds))
-            };
-            let (boot, weights, importance_seconds) = match backend.thread_pool() {
-                Some(pool) => pool.install(prepare)?,
-                None => prepare()?,
-            };
-            backend.start(&boot.chain_u, &boot.chains, &weights)?;
-            importance = s.pixel_importance.then(|| (weights, Accumulation::new(pixels)));
-            stats.chains = base.chains;
-            stats.bootstrap_seconds = boot.seconds;
-            stats.importance_seconds = importance_seconds;
-            moments = boot.moments;
-        }
+                let (boot, weights, importance_seconds) = match backend.thread_pool() {
+                    Some(pool) => pool.install(prepare)?,
+                    None => prepare()?,
+                };
+                backend.start(&boot.chain_u, &boot.chains, &weights)?;
+                stats.chains = base.chains;
+                stats.bootstrap_seconds = boot.seconds;
+                stats.importance_seconds = importance_seconds;
+                let importance = m.chains.pixel_importance.then(|| (weights, Accumulation::new(pixels)));
+                (Progress::Metropolis { base, importance }, boot.moments)
+            }
+        };
         Ok(Self {
             backend,
             settings: s.clone(),
-            base,
-            reference,
-            importance,
-            bootstrap: moments,
+            progress,
+            bootstrap: bootstrap_moments,
             acc: Accumulation::new(pixels),
             stats,
             pending: 0,
@@ -248,20 +263,20 @@ impl<'a> Renderer<'a> {
     /// to the render time.
     pub fn iterate(&mut self) -> Result<(), RenderError> {
         let start = Instant::now();
-        match self.reference {
-            Some(p) => {
+        match &self.progress {
+            &Progress::PathTracer(p) => {
                 let round = self.settings.round(self.stats.iterations);
-                self.backend.trace_reference_round(&ReferenceParams { round, ..p })?;
+                self.backend.trace_path_tracer_round(&PathTracerParams { round, ..p })?;
                 // Every path is a sample of weight one: W counts them.
                 let paths = p.samples as u64 * p.width as u64 * p.height as u64;
                 self.acc.candidates += paths;
                 self.acc.weight += paths as f64;
                 self.acc.accepted += paths as f64;
             }
-            None => {
-                let params = self.next_params();
+            Progress::Metropolis { base, .. } => {
+                let params = RenderParams { iteration: self.stats.iterations as u32, ..*base };
                 self.backend.iterate(&params)?;
-                self.acc.candidates += self.base.candidates as u64;
+                self.acc.candidates += base.candidates as u64;
             }
         }
         self.stats.iterations += 1;
@@ -276,20 +291,15 @@ impl<'a> Renderer<'a> {
     /// Moves the backend's splats and tallies into the accumulation (the sums times each
     /// pixel's Ĩ).
     fn drain(&mut self) -> Result<(), RenderError> {
-        match &mut self.importance {
-            Some((importance, drained)) => {
+        match &mut self.progress {
+            Progress::Metropolis { importance: Some((importance, drained)), .. } => {
                 self.backend.drain(drained)?;
                 self.acc.merge_weighted(drained, importance);
             }
-            None => self.backend.drain(&mut self.acc)?,
+            _ => self.backend.drain(&mut self.acc)?,
         }
         self.pending = 0;
         Ok(())
-    }
-
-    /// The parameters of the next iteration.
-    pub fn next_params(&self) -> RenderParams {
-        RenderParams { iteration: self.stats.iterations as u32, ..self.base }
     }
 
     /// Iterations, render time and the other timings so far (b, steps and counts are filled
@@ -304,14 +314,7 @@ impl<'a> Renderer<'a> {
         let start = Instant::now();
         self.drain()?;
         self.stats.render_seconds += start.elapsed().as_secs_f64();
-        let s = &self.settings;
-        Ok(Rendered::from_accumulation(
-            (s.width, s.height),
-            (s.method, s.state_depths()),
-            self.bootstrap,
-            self.acc.clone(),
-            self.stats.clone(),
-        ))
+        Ok(Rendered::from_accumulation(&self.settings, self.bootstrap, self.acc.clone(), self.stats.clone()))
     }
 }
 

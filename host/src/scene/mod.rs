@@ -24,9 +24,9 @@ use glam::Vec3;
 use obvhs::cwbvh::CwBvh;
 use shared::bsdf::Material;
 use shared::camera::Camera;
+use shared::color::luminance;
 use shared::cwbvh::{WideBvh, WideNode, WIDE_BVH_STACK_SIZE};
 use shared::light::{light_cdf, LightEntry};
-use shared::mmlt::luminance;
 use shared::scene::Scene;
 use shared::triangle::{Triangle, TriangleEdges};
 

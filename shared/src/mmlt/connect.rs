@@ -15,6 +15,10 @@ use crate::light::emitted;
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
 
+use crate::light::sample_light;
+use crate::params::RenderParams;
+use crate::ray_caster::spawn;
+
 use super::*;
 
 /// The density of `from` (with predecessor `before`, or a light origin when `from` is a
@@ -107,15 +111,15 @@ pub fn connect_candidate<R: RayCaster>(
         }
     } else {
         if s == 1 {
-            qs = sample_light(
+            let qs_point = sample_light(
                 scene.lights,
                 params.light_count,
                 scene.triangles,
                 scene.materials,
                 samples.get(u, DIM_CONNECT_PICK),
                 samples.get2(u, DIM_CONNECT_POINT),
-            )
-            .vertex;
+            );
+            qs = light_vertex(&qs_point);
         }
         let qp = qs.position();
         if t == 1 {

@@ -8,7 +8,7 @@
 //!
 //! with Ĩ_j the pixel importance of the pixel j it lands on
 //! ([`crate::layout::pack_over_importance`], as the path estimator's): every pixel gets about the same share of the chains' steps.
-//! All Ĩ_j = 1 is the seed's target, the luminance (`smlt render --no-pixel-importance`).
+//! All Ĩ_j = 1 is the paper's target, the luminance (`smlt render --no-pixel-importance`).
 //!
 //! The technique is chosen by u[0] (so mutations can change it). s = 1 resamples the light
 //! point with its own samples and t = 1 connects to the pinhole, landing on the pixel the
@@ -28,24 +28,14 @@
 mod chain;
 mod connect;
 mod dimensions;
-mod params;
 mod trace;
 mod vertex;
 
 pub use chain::*;
 pub use connect::*;
 pub use dimensions::*;
-pub use params::*;
 pub use trace::*;
 pub use vertex::*;
-
-use glam::Vec3;
-
-/// Luminance (Rec. 709) of a linear RGB value: the scalar target c.
-#[inline]
-pub fn luminance(rgb: Vec3) -> f32 {
-    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
-}
 
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod tests;

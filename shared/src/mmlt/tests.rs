@@ -1,3 +1,5 @@
+use glam::Vec3;
+
 use super::*;
 
 #[test]
@@ -56,17 +58,4 @@ fn density_conversion_uses_the_cosine_only_on_surfaces() {
     assert!((convert_density(1.0, from, to, n, true) - 0.8 / 4.0).abs() < 1e-6);
     assert!((convert_density(1.0, from, to, n, false) - 0.25).abs() < 1e-6);
     assert_eq!(convert_density(1.0, from, from, n, true), 0.0);
-}
-
-/// Only the path estimator refreshes, and only the groups its state's path did not read: a
-/// state that read two vertices (dimensions 0..14) keeps groups 0..=3 and refreshes 4..=15; the
-/// seed's estimator perturbs every group it uses, whatever its depth.
-#[test]
-fn only_the_path_estimator_refreshes_unread_groups() {
-    let path = RenderParams { estimator: ESTIMATOR_PATH, max_depth: 10, ..Default::default() };
-    let refreshed: Vec<u32> = (0..16).filter(|&g| path.refreshes_group(g, 2)).collect();
-    assert_eq!(refreshed, (4..16).collect::<Vec<u32>>());
-    assert!((0..16).all(|g| !path.refreshes_group(g, 10)), "a path of every vertex read them all");
-    let multiplexed = RenderParams { estimator: ESTIMATOR_MULTIPLEXED, max_depth: 10, ..Default::default() };
-    assert!((0..16).all(|g| (0..=10).all(|d| !multiplexed.refreshes_group(g, d))));
 }

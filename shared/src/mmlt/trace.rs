@@ -1,56 +1,35 @@
-//! The `trace` stage: the light-point sample, the scene as the passes see it, the random walk
+//! The `trace` stage: the light subpath's first vertex, the random walk
 //! that extends a subpath, and [`trace_candidate`], which builds both subpaths of a candidate.
 
 use core::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
-use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere, Material};
+use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere};
 use crate::layout::soa_index;
-use crate::light::{pick_light, uniform_triangle, LightEntry};
+use crate::light::{sample_light, LightPoint};
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
-use crate::triangle::Triangle;
+
+use crate::params::RenderParams;
+use crate::ray_caster::spawn;
 
 use super::*;
 
-/// A point sampled on the lights.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct LightSample {
-    /// The vertex (kind LIGHT, beta = emission / area density, pdf_fwd = area density).
-    pub vertex: PathVertex,
-    /// Emitted radiance of the light's material (`Material::emission`).
-    pub emission: Vec3,
-}
-
-/// Picks a light point from `u_pick` and `u_point` (area density `triangle.light_area_pdf`).
+/// The light subpath's first vertex at the light point `ls` (kind LIGHT, beta = emission /
+/// area density, pdf_fwd = area density).
 #[inline]
-pub fn sample_light(
-    lights: &[LightEntry],
-    light_count: u32,
-    tris: &[Triangle],
-    materials: &[Material],
-    u_pick: f32,
-    u_point: Vec2,
-) -> LightSample {
-    let entry = lights[pick_light(lights, light_count, u_pick) as usize];
-    let tri = tris[entry.triangle as usize];
-    let b = uniform_triangle(u_point);
-    let emission = Vec3::from_array(materials[tri.material as usize].emission);
-    let pdf = tri.light_area_pdf;
-    let beta = if pdf > 0.0 { emission / pdf } else { Vec3::ZERO };
-    LightSample {
-        vertex: PathVertex {
-            p: tri.point(b.x, b.y).to_array(),
-            kind: KIND_LIGHT,
-            n: tri.normal().to_array(),
-            material: tri.material,
-            beta: beta.to_array(),
-            pdf_fwd: pdf,
-            pdf_rev: 0.0,
-            triangle: entry.triangle,
-            _pad: [0; 2],
-        },
-        emission,
+pub fn light_vertex(ls: &LightPoint) -> PathVertex {
+    let beta = if ls.pdf_area > 0.0 { ls.emission / ls.pdf_area } else { Vec3::ZERO };
+    PathVertex {
+        p: ls.p.to_array(),
+        kind: KIND_LIGHT,
+        n: ls.n.to_array(),
+        material: ls.material,
+        beta: beta.to_array(),
+        pdf_fwd: ls.pdf_area,
+        pdf_rev: 0.0,
+        triangle: ls.triangle,
+        _pad: [0; 2],
     }
 }
 
@@ -171,7 +150,7 @@ pub fn trace_candidate<R: RayCaster>(
             samples.get(u, DIM_LIGHT_PICK),
             samples.get2(u, DIM_LIGHT_POINT),
         );
-        let v0 = ls.vertex;
+        let v0 = light_vertex(&ls);
         vertices[soa_index(samples.candidate, vertex_slot(1, 0, max_depth), samples.count)] = v0;
         light_vertices = 1;
         if v0.pdf_fwd > 0.0 {

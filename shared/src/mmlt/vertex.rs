@@ -87,17 +87,6 @@ pub fn vertex_slots(max_depth: u32) -> u32 {
     max_depth + 2
 }
 
-/// A ray origin moved off the surface at `p` (normal `n`) to the side `d` leaves on.
-#[inline]
-pub fn spawn(p: Vec3, n: Vec3, d: Vec3, epsilon: f32) -> Vec3 {
-    let scale = epsilon * (1.0 + p.abs().max_element());
-    if n.dot(d) >= 0.0 {
-        p + n * scale
-    } else {
-        p - n * scale
-    }
-}
-
 /// Converts a solid-angle density at `from` into an area density at `to` (with normal `n`,
 /// whose cosine is used only when `to` lies on a surface).
 #[inline]

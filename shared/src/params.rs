@@ -1,10 +1,11 @@
-//! What every dispatch of a render knows ([`RenderParams`]), the dispatch modes and methods,
-//! and the bootstrap samples' random keys.
+//! What every dispatch of the Metropolis chains' stages knows ([`RenderParams`]: the multiplexed
+//! estimator's and the path estimator's alike), the dispatch modes and methods, and the
+//! bootstrap samples' random keys.
 
 use crate::camera::Camera;
 use crate::mutation::MutationParams;
 
-use super::sample_dimensions;
+use crate::mmlt::sample_dimensions;
 
 /// Mode of a render dispatch: advancing chains.
 pub const MODE_CHAINS: u32 = 0;
@@ -98,7 +99,7 @@ pub fn estimator_raster_dimension(estimator: u32) -> u32 {
     if estimator == ESTIMATOR_PATH {
         crate::pssmlt::PATH_DIM_RASTER
     } else {
-        super::DIM_RASTER
+        crate::mmlt::DIM_RASTER
     }
 }
 
@@ -145,11 +146,11 @@ impl RenderParams {
     }
 
     /// Whether candidates of path depth `depth` read any of dimensions `first .. first +
-    /// count` (the multiplexed estimator's [`super::dimensions_used`]; the path estimator's
+    /// count` (the multiplexed estimator's [`crate::mmlt::dimensions_used`]; the path estimator's
     /// paths may read them all).
     #[inline]
     pub fn dimensions_used(&self, first: u32, count: u32, depth: u32) -> bool {
-        self.estimator == ESTIMATOR_PATH || super::dimensions_used(first, count, depth, self.max_depth)
+        self.estimator == ESTIMATOR_PATH || crate::mmlt::dimensions_used(first, count, depth, self.max_depth)
     }
 
     /// Whether a small step gives dimensions `4·group .. 4·group + 4` of a chain at `depth`
@@ -184,5 +185,24 @@ impl RenderParams {
     #[inline]
     pub fn states_per_chain(&self) -> u32 {
         self.candidates_per_chain() + 1
+    }
+}
+
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod tests {
+    use super::*;
+
+    /// Only the path estimator refreshes, and only the groups its state's path did not read: a
+    /// state that read two vertices (dimensions 0..14) keeps groups 0..=3 and refreshes 4..=15; the
+    /// multiplexed estimator perturbs every group it uses, whatever its depth.
+    #[test]
+    fn only_the_path_estimator_refreshes_unread_groups() {
+        let path = RenderParams { estimator: ESTIMATOR_PATH, max_depth: 10, ..Default::default() };
+        let refreshed: Vec<u32> = (0..16).filter(|&g| path.refreshes_group(g, 2)).collect();
+        assert_eq!(refreshed, (4..16).collect::<Vec<u32>>());
+        assert!((0..16).all(|g| !path.refreshes_group(g, 10)), "a path of every vertex read them all");
+        let multiplexed =
+            RenderParams { estimator: ESTIMATOR_MULTIPLEXED, max_depth: 10, ..Default::default() };
+        assert!((0..16).all(|g| (0..=10).all(|d| !multiplexed.refreshes_group(g, d))));
     }
 }
