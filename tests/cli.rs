@@ -398,7 +398,7 @@ fn the_bench_writes_a_well_formed_csv() {
     let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
     let mut lines = csv.lines();
     let header = lines.next().unwrap();
-    assert_eq!(header, smlt::bench::results::CSV_HEADER);
+    assert_eq!(header, smlt_bench::results::CSV_HEADER);
     assert!(header.starts_with(
         "scene,view,method,repeat,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr"
     ));
@@ -431,7 +431,7 @@ fn the_bench_writes_a_well_formed_csv() {
         let passes = std::fs::read_to_string(dir.join("passes.csv")).unwrap();
         let mut lines = passes.lines();
         let header = lines.next().unwrap();
-        assert_eq!(header, smlt::bench::profile::csv_header());
+        assert_eq!(header, smlt_bench::profile::csv_header());
         let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
         assert_eq!(rows.len(), 6, "{passes}");
         for r in &rows {

@@ -184,7 +184,7 @@ fn every_caster_answers_every_query_alike() {
         // One query per invocation: the kernel's answer word is the query's own.
         let params = RenderParams { candidates: rays.len() as u32, ..Default::default() };
         let replayed =
-            smlt::bench::raycast::replay_rays(gpu, scene, &rays, params.candidates).expect("device replay");
+            smlt_bench::raycast::replay_rays(gpu, scene, &rays, params.candidates).expect("device replay");
         let mut expected = vec![0u32; rays.len()];
         passes::raycast::cpu(&params, scene.obvhs_view(), &rays, &mut expected);
         assert_eq!(expected, rays.iter().map(|r| cast(&obvhs, r)).collect::<Vec<_>>());

@@ -11,12 +11,12 @@ use kernels::trace::TraceIo;
 use shared::mmlt::{vertex_slot, PathInfo, PathVertex};
 use shared::params::{RenderParams, MODE_BOOTSTRAP};
 use shared::rays::{Ray, RAY_CLOSEST, RAY_NONE, RAY_OCCLUSION};
-use smlt::bench::raycast::{log_candidates, replay, RayLog};
 use smlt::passes;
 use smlt::passes::buffers::{OnDevice, SceneBuffers, Storage};
 use smlt::render::{self, Budget, ChainSettings, Integrator, Method, Settings};
 use smlt::scene::SceneData;
 use smlt::timing::{time_passes, Clock};
+use smlt_bench::raycast::{log_candidates, replay, RayLog};
 
 /// Fresh (bootstrap) candidates of `scene`: their parameters, samples and depths.
 fn candidates(scene: &SceneData, count: u32, max_depth: u32) -> (RenderParams, Vec<f32>, Vec<u32>) {

@@ -80,7 +80,7 @@ fn the_reference_knows_its_own_noise() {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").unwrap();
     let a = render_reference(&scene, &settings("cornell", 24, 5, 96, 1), None, 6, |_| {}).unwrap();
     let b = render_reference(&scene, &settings("cornell", 24, 5, 96, 2), None, 6, |_| {}).unwrap();
-    let e = smlt::bench::metrics::errors(&a.rgb, &b.rgb);
+    let e = smlt_bench::metrics::errors(&a.rgb, &b.rgb);
     let predicted = (a.noise_rmse.powi(2) + b.noise_rmse.powi(2)).sqrt();
     println!("RMSE between references {:.5}, predicted from their noise {predicted:.5}", e.rmse);
     assert!(a.noise_rmse > 0.0 && b.noise_rmse > 0.0);

@@ -1,10 +1,9 @@
-//! The smlt host: device set-up, the passes (buffers and dispatch of each kernel, on the GPU or
-//! on CPU threads), and the commands of the `smlt` binary.
+//! The smlt renderer: scenes, device set-up, the passes (buffers and dispatch of each kernel, on
+//! the GPU or on CPU threads), the render loop, part files and ground truth. The `smlt` command
+//! (`cli/`) and the measurement tools (`smlt-bench`, `bench/`) are built on it.
 #![deny(missing_docs)]
 
-pub mod bench;
 pub mod caster;
-pub mod cmd;
 pub mod gpu;
 pub mod hash;
 pub mod output;

@@ -22,15 +22,15 @@ pub struct Args {
 /// Runs `smlt scene`.
 pub fn run(a: Args) -> anyhow::Result<()> {
     let text = match (a.name.as_str(), &a.from) {
-        ("sponza-banner", Some(from)) => crate::scenes::sponza_banner::sponza_banner(from, &a.out)?,
+        ("sponza-banner", Some(from)) => smlt::scenes::sponza_banner::sponza_banner(from, &a.out)?,
         ("sponza-banner", None) => anyhow::bail!(
             "sponza-banner is written from the Dabrovic Sponza: add --from PATH/sponza_dabrovic.gltf"
         ),
-        (name, _) => match crate::scenes::generate(name, a.tessellation) {
+        (name, _) => match smlt::scenes::generate(name, a.tessellation) {
             Some(text) => text,
             None => anyhow::bail!(
                 "unknown scene '{name}': known scenes are {} and sponza-banner",
-                crate::scenes::GENERATED.join(", ")
+                smlt::scenes::GENERATED.join(", ")
             ),
         },
     };

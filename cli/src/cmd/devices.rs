@@ -2,7 +2,7 @@
 
 /// Runs `smlt devices`.
 pub fn run() -> anyhow::Result<()> {
-    let adapters = crate::gpu::adapters();
+    let adapters = smlt::gpu::adapters();
     if adapters.is_empty() {
         println!("no Vulkan adapter (install a Vulkan driver, or lavapipe: scripts/setup.sh)");
     }
@@ -15,11 +15,11 @@ pub fn run() -> anyhow::Result<()> {
             info.backend,
             info.driver,
             info.driver_info,
-            if crate::gpu::is_real_gpu(&info) { "" } else { " — not a GPU" }
+            if smlt::gpu::is_real_gpu(&info) { "" } else { " — not a GPU" }
         );
     }
-    println!("cpu: the CPU backend, {} threads (--device cpu)", crate::render::cpu::default_threads());
-    let auto = if adapters.iter().any(|a| crate::gpu::is_real_gpu(&a.get_info())) {
+    println!("cpu: the CPU backend, {} threads (--device cpu)", smlt::render::cpu::default_threads());
+    let auto = if adapters.iter().any(|a| smlt::gpu::is_real_gpu(&a.get_info())) {
         "the best GPU above"
     } else {
         "cpu"

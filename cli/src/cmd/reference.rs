@@ -1,12 +1,12 @@
 //! `smlt reference`: a scene view's ground truth by the independent path tracer, cached with
-//! its settings (`crate::reference`).
+//! its settings (`smlt::reference`).
 
 use std::path::PathBuf;
 
 use indicatif::ProgressBar;
 
 use super::args::{DeviceArgs, ImageArgs, PathArgs, SceneArgs};
-use crate::reference::{cached_or_render, sidecar, ReferenceSettings};
+use smlt::reference::{cached_or_render, sidecar, ReferenceSettings};
 
 /// `smlt reference`'s flags.
 #[derive(clap::Args)]
@@ -33,7 +33,7 @@ pub struct Args {
 
 /// Runs `smlt reference`.
 pub fn run(a: Args) -> anyhow::Result<()> {
-    crate::output::check_writable(&a.out)?;
+    smlt::output::check_writable(&a.out)?;
     let (scene, scene_hash) = a.scene.load()?;
     let settings = ReferenceSettings {
         scene: format!("{} view {}", scene.name, a.scene.view),
@@ -44,7 +44,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         spp: a.spp,
         seed: a.path.seed,
     };
-    if crate::reference::cached(&a.out, &settings).is_some() {
+    if smlt::reference::cached(&a.out, &settings).is_some() {
         println!("cached               {} (same settings in {})", a.out.display(), sidecar(&a.out).display());
         return Ok(());
     }
@@ -76,7 +76,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     println!(
         "wrote                {}, {} and {}",
         a.out.display(),
-        crate::output::png_path(&a.out).display(),
+        smlt::output::png_path(&a.out).display(),
         sidecar(&a.out).display()
     );
     Ok(())

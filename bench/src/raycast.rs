@@ -13,15 +13,15 @@ use shared::params::RenderParams;
 use shared::ray_caster::{Hit, RayCaster};
 use shared::rays::{Ray, RAY_CLOSEST, RAY_OCCLUSION};
 
-use crate::gpu::Gpu;
-use crate::passes;
 use kernels::connect::ConnectIo;
 use kernels::trace::TraceIo;
+use smlt::gpu::Gpu;
+use smlt::passes;
 
-use crate::passes::buffers::{OnDevice, SceneBuffers, Storage};
-use crate::render::RenderError;
-use crate::scene::SceneData;
-use crate::timing::{time_passes, Clock};
+use smlt::passes::buffers::{OnDevice, SceneBuffers, Storage};
+use smlt::render::RenderError;
+use smlt::scene::SceneData;
+use smlt::timing::{time_passes, Clock};
 
 /// A ray caster that records every query it answers, in order, and forwards it to `inner`.
 pub struct Logged<R> {

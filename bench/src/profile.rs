@@ -1,6 +1,6 @@
 //! The bench's look inside an iteration, per method: the time of each pass (timestamp queries
-//! on a device, `crate::timing`; wall time of each stage over all groups on the CPU backend),
-//! and the ray-casting ceiling (`crate::bench::raycast`): rays cast per candidate, the bare rays/s of
+//! on a device, `smlt::timing`; wall time of each stage over all groups on the CPU backend),
+//! and the ray-casting ceiling (`crate::raycast`): rays cast per candidate, the bare rays/s of
 //! replaying exactly those rays (on the device, or on the CPU backend's threads through its
 //! ray caster), and how close the measured mutation throughput comes to
 //! `rays/s ÷ rays per candidate`.
@@ -10,15 +10,15 @@
 
 use std::fmt::Write as _;
 
-use crate::bench::raycast::{log_candidates, replay, replay_on_host, RayLog};
-use crate::bench::results::first_seen;
-use crate::passes::Stage;
-use crate::render::cpu::CpuBackend;
-use crate::render::gpu::{GpuBackend, PassTimes};
-use crate::render::{Backend, RenderError};
-use crate::scene::SceneData;
-use crate::timing::Clock;
+use crate::raycast::{log_candidates, replay, replay_on_host, RayLog};
+use crate::results::first_seen;
 use shared::params::RenderParams;
+use smlt::passes::Stage;
+use smlt::render::cpu::CpuBackend;
+use smlt::render::gpu::{GpuBackend, PassTimes};
+use smlt::render::{Backend, RenderError};
+use smlt::scene::SceneData;
+use smlt::timing::Clock;
 
 /// Iterations timed per method.
 pub const TIMED_ITERATIONS: u32 = 16;
@@ -119,46 +119,72 @@ pub fn csv_header() -> String {
 /// What a profile is of: scene label, view and method.
 pub type Profiled<'a> = (&'a str, u32, &'a str);
 
-/// Profiles `method`'s render of `scene` (named `label`, view `view`) on `backend` from
-/// `params` (the next iteration's), whose equal-time run measured `mutations_per_s`: times
-/// [`TIMED_ITERATIONS`] iterations pass by pass, then logs the rays of the last iteration's
-/// candidates on the host and replays them bare on the device.
-pub fn profile(
-    backend: &mut GpuBackend,
-    scene: &SceneData,
-    what: Profiled,
-    params: RenderParams,
-    mutations_per_s: f64,
-) -> Result<Profile, RenderError> {
-    let (last, clock, total) = timed_iterations(params, |p| backend.iterate_timed(p))?;
-    let gpu = backend.gpu().clone();
-    let c = last.candidates as usize;
-    let cand_u: Vec<f32> = gpu.read(&backend.buffers().iteration.cand_u, c * last.dims as usize)?;
-    let cand_depth: Vec<u32> = gpu.read(&backend.buffers().iteration.cand_depth, c)?;
-    let log = log_candidates(scene, &last, &cand_u, &cand_depth);
-    let replayed = replay(&gpu, scene, &log, REPLAYS)?;
-    Ok(assemble(scene, what, (&last, clock, total), &[log], replayed.seconds, mutations_per_s, 0))
+/// A render backend the bench can look inside (both of smlt's): its stages timed, its
+/// candidates' rays replayed bare.
+pub trait ProfiledBackend: Backend {
+    /// Profiles `what`'s render of `scene` on this backend from `params` (the next
+    /// iteration's), whose equal-time run measured `mutations_per_s`: times
+    /// [`TIMED_ITERATIONS`] iterations pass by pass, then logs the rays of the last
+    /// iteration's candidates on the host and replays them bare where the backend casts them.
+    fn profile(
+        &mut self,
+        scene: &SceneData,
+        what: Profiled,
+        params: RenderParams,
+        mutations_per_s: f64,
+    ) -> Result<Profile, RenderError>;
 }
 
-/// The same look inside an iteration on the CPU backend: each stage timed over all groups, the
-/// rays of every group's candidates logged and replayed bare on the backend's threads.
-pub fn profile_cpu(
-    backend: &mut CpuBackend,
-    scene: &SceneData,
-    what: Profiled,
-    params: RenderParams,
-    mutations_per_s: f64,
-) -> Result<Profile, RenderError> {
-    let (last, _, total) = timed_iterations(params, |p| Ok((backend.iterate_timed(p), Clock::Wall)))?;
-    let logs: Vec<RayLog> = backend
-        .candidates(&last)
-        .into_iter()
-        .map(|(p, u, depth)| log_candidates(scene, &p, u, depth))
-        .collect();
-    let pool = backend.thread_pool().expect("the CPU backend has a pool");
-    let replayed = replay_on_host(pool, scene, &logs, REPLAYS);
-    let threads = backend.threads();
-    Ok(assemble(scene, what, (&last, Clock::Wall, total), &logs, replayed.seconds, mutations_per_s, threads))
+/// On a device: each stage timed by the device's timestamps, the rays replayed by the
+/// `raycast` kernel.
+impl ProfiledBackend for GpuBackend {
+    fn profile(
+        &mut self,
+        scene: &SceneData,
+        what: Profiled,
+        params: RenderParams,
+        mutations_per_s: f64,
+    ) -> Result<Profile, RenderError> {
+        let (last, clock, total) = timed_iterations(params, |p| self.iterate_timed(p))?;
+        let gpu = self.gpu().clone();
+        let c = last.candidates as usize;
+        let cand_u: Vec<f32> = gpu.read(&self.buffers().iteration.cand_u, c * last.dims as usize)?;
+        let cand_depth: Vec<u32> = gpu.read(&self.buffers().iteration.cand_depth, c)?;
+        let log = log_candidates(scene, &last, &cand_u, &cand_depth);
+        let replayed = replay(&gpu, scene, &log, REPLAYS)?;
+        Ok(assemble(scene, what, (&last, clock, total), &[log], replayed.seconds, mutations_per_s, 0))
+    }
+}
+
+/// On the CPU backend: each stage timed over all groups, the rays of every group's candidates
+/// logged and replayed bare on the backend's threads.
+impl ProfiledBackend for CpuBackend<'_> {
+    fn profile(
+        &mut self,
+        scene: &SceneData,
+        what: Profiled,
+        params: RenderParams,
+        mutations_per_s: f64,
+    ) -> Result<Profile, RenderError> {
+        let (last, _, total) = timed_iterations(params, |p| Ok((self.iterate_timed(p), Clock::Wall)))?;
+        let logs: Vec<RayLog> = self
+            .candidates(&last)
+            .into_iter()
+            .map(|(p, u, depth)| log_candidates(scene, &p, u, depth))
+            .collect();
+        let pool = self.thread_pool().expect("the CPU backend has a pool");
+        let replayed = replay_on_host(pool, scene, &logs, REPLAYS);
+        let threads = self.threads();
+        Ok(assemble(
+            scene,
+            what,
+            (&last, Clock::Wall, total),
+            &logs,
+            replayed.seconds,
+            mutations_per_s,
+            threads,
+        ))
+    }
 }
 
 /// Runs [`TIMED_ITERATIONS`] iterations from `params` through `iterate` (seconds per stage and
@@ -204,7 +230,7 @@ fn assemble(
         rays_per_candidate: rays as f64 / candidates.max(1) as f64,
         bare_rays_per_s: rays as f64 / replay_seconds,
         mutations_per_s,
-        device_mib: crate::passes::buffers::device_bytes(scene, last) as f64 / 1048576.0,
+        device_mib: smlt::passes::buffers::device_bytes(scene, last) as f64 / 1048576.0,
         threads,
     }
 }

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::args::exposure;
-use crate::output::Exposure;
+use smlt::output::Exposure;
 
 /// `smlt merge`'s flags.
 #[derive(clap::Args)]
@@ -22,11 +22,11 @@ pub struct Args {
 
 /// Runs `smlt merge`.
 pub fn run(a: Args) -> anyhow::Result<()> {
-    crate::output::check_writable(&a.out)?;
-    let parts: Vec<crate::part::Part> =
-        a.parts.iter().map(|p| crate::part::read_part(p)).collect::<Result<_, _>>()?;
-    let merged = crate::part::merge(&parts)?;
-    let ev = crate::output::write_images_exposed(
+    smlt::output::check_writable(&a.out)?;
+    let parts: Vec<smlt::part::Part> =
+        a.parts.iter().map(|p| smlt::part::read_part(p)).collect::<Result<_, _>>()?;
+    let merged = smlt::part::merge(&parts)?;
+    let ev = smlt::output::write_images_exposed(
         &a.out,
         merged.width,
         merged.height,
@@ -52,7 +52,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     println!(
         "wrote                {} and {} (PNG at {ev:+.2} EV)",
         a.out.display(),
-        crate::output::png_path(&a.out).display()
+        smlt::output::png_path(&a.out).display()
     );
     Ok(())
 }

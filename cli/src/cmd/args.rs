@@ -7,9 +7,9 @@ use std::path::PathBuf;
 use clap::ValueEnum;
 use shared::mutation::MutationParams;
 
-use crate::gpu::Gpu;
-use crate::render;
-use crate::scene::SceneData;
+use smlt::gpu::Gpu;
+use smlt::render;
+use smlt::scene::SceneData;
 
 /// Where the kernels run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -83,8 +83,8 @@ impl DeviceArgs {
             }
             DeviceKind::Cpu => Ok(Device { gpu: None, threads, why: "--device cpu".into() }),
             DeviceKind::Auto => {
-                let adapters = crate::gpu::adapters();
-                if adapters.iter().any(|a| crate::gpu::is_real_gpu(&a.get_info())) {
+                let adapters = smlt::gpu::adapters();
+                if adapters.iter().any(|a| smlt::gpu::is_real_gpu(&a.get_info())) {
                     let gpu = Gpu::open(None)?;
                     return Ok(Device {
                         gpu: Some(gpu),
@@ -123,7 +123,7 @@ impl SceneArgs {
     /// The scene at its view and the hash of its files; prints the loader's warnings.
     pub fn load(&self) -> anyhow::Result<(SceneData, String)> {
         let name = self.scene.as_ref().map(|p| p.to_string_lossy().into_owned());
-        let (_, mut scene, hash) = crate::scenes::open(name.as_deref(), 1)?;
+        let (_, mut scene, hash) = smlt::scenes::open(name.as_deref(), 1)?;
         scene.select_view(self.view)?;
         for w in &scene.warnings {
             eprintln!("warning: {}: {w}", scene.name);

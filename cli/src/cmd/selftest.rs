@@ -1,7 +1,7 @@
 //! `smlt selftest`: the device computes the speculative-tree, reject-chain and mutation math
-//! exactly as the CPU does (`crate::selftest`).
+//! exactly as the CPU does (`smlt::selftest`).
 
-use crate::gpu::Gpu;
+use smlt::gpu::Gpu;
 
 /// `smlt selftest`'s flags.
 #[derive(clap::Args)]
@@ -18,10 +18,10 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<()> {
     let gpu = Gpu::open(a.adapter.as_deref())?;
     println!("adapter: {}", gpu.describe());
-    let batch = crate::selftest::standard_batch(a.seed);
+    let batch = smlt::selftest::standard_batch(a.seed);
     let cpu = batch.run_cpu();
     let device = batch.run_gpu(&gpu)?;
-    let cmp = crate::selftest::compare(&batch, &cpu, &device);
+    let cmp = smlt::selftest::compare(&batch, &cpu, &device);
     if let Some(first) = cmp.mismatches.first() {
         anyhow::bail!(
             "device self-test failed: {} of {} values differ; first: {first}",
@@ -33,7 +33,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         "self-test passed: {} cases, {} floats within {} ulps (max {:.1}), {} words exact, {} selections on a rounding boundary",
         batch.cases.len(),
         cmp.floats,
-        crate::selftest::TOLERANCE_ULPS,
+        smlt::selftest::TOLERANCE_ULPS,
         cmp.max_ulps,
         cmp.words,
         cmp.boundary_selections

@@ -9,10 +9,10 @@ use std::sync::Once;
 
 use plotters::prelude::*;
 
-use crate::bench::results::{along_time, final_interval, first_seen, views, Row};
-use crate::render::Method;
+use crate::results::{along_time, final_interval, first_seen, views, Row};
+use smlt::render::Method;
 
-static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
 fn register_font() {
@@ -95,7 +95,7 @@ pub fn error_plot(rows: &[Row], scene: &str, view: u32, path: &Path) -> anyhow::
         return Ok(());
     }
     let methods = first_seen(mine.iter().map(|r| r.method.as_str()));
-    let curves: Vec<Vec<(f64, crate::bench::interval::Interval)>> =
+    let curves: Vec<Vec<(f64, crate::interval::Interval)>> =
         methods.iter().map(|m| along_time(rows, scene, view, m, |r| r.errors.rmse)).collect();
     let (mut t0, mut t1, mut e0, mut e1) = (f64::MAX, 0.0f64, f64::MAX, 0.0f64);
     for (t, e) in curves.iter().flatten() {

@@ -4,10 +4,10 @@
 
 use std::fmt::Write as _;
 
-use crate::bench::interval::{clear_best, Interval};
-use crate::bench::results::{final_interval, views, Row};
-use crate::bench::BenchSettings;
-use crate::render::{Estimator, Method};
+use crate::interval::{clear_best, Interval};
+use crate::results::{final_interval, views, Row};
+use crate::BenchSettings;
+use smlt::render::{Estimator, Method};
 
 /// The seed's Table 3 (million mutations/s) and Table 4 (PSNR after the full time), with RMSE
 /// and relMSE, as Markdown: methods down, scene views across, each cell the mean over the
@@ -157,7 +157,7 @@ mod tests {
         let mut b = BenchSettings {
             scenes: vec![("cornell".into(), 1)],
             methods: vec![Method::NAIVE],
-            render: crate::render::Settings { width: 4, height: 4, max_depth: 3, ..Default::default() },
+            render: smlt::render::Settings { width: 4, height: 4, max_depth: 3, ..Default::default() },
             seconds: 2.0,
             reference_spp: 512,
             candidates: None,

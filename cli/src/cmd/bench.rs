@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::args::{positive_f64, ChainArgs, DeviceArgs, PathArgs};
-use crate::render::{Integrator, Method, Settings};
+use smlt::render::{Integrator, Method, Settings};
 
 /// A scene with an optional view: `atrium:2`.
 fn scene_view(s: &str) -> Result<(String, u32), String> {
@@ -73,7 +73,7 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<()> {
     let device = a.device.open()?;
     println!("bench on {} — {}", device.describe(), device.why);
-    println!("{}", crate::bench::results::CSV_HEADER);
+    println!("{}", smlt_bench::results::CSV_HEADER);
     let render = Settings {
         width: a.width,
         height: a.height,
@@ -82,7 +82,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         integrator: Integrator::new(Method::NAIVE, a.chains.settings()),
         ..Default::default()
     };
-    let settings = crate::bench::BenchSettings {
+    let settings = smlt_bench::BenchSettings {
         scenes: a.scenes,
         methods: a.methods,
         render,
@@ -95,7 +95,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         reference: a.reference.clone(),
         out: a.out.clone(),
     };
-    crate::bench::run(&settings, device.gpu.as_ref(), |line| println!("{line}"))?;
+    smlt_bench::run(&settings, device.gpu.as_ref(), |line| println!("{line}"))?;
     println!("wrote {}/results.csv and {}/tables.md", a.out.display(), a.out.display());
     Ok(())
 }

@@ -25,13 +25,13 @@ use std::path::{Path, PathBuf};
 
 use shared::params::RenderParams;
 
-use crate::gpu::Gpu;
-use crate::reference::{cached_or_render, ReferenceSettings};
-use crate::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Settings};
-use crate::scene::SceneData;
 use metrics::{errors, heat_map};
-use profile::{profile, profile_cpu, Profile};
+use profile::{Profile, ProfiledBackend};
 use results::{final_row, Row, CSV_HEADER};
+use smlt::gpu::Gpu;
+use smlt::reference::{cached_or_render, ReferenceSettings};
+use smlt::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Settings};
+use smlt::scene::SceneData;
 
 /// What to measure.
 #[derive(Clone, Debug)]
@@ -94,7 +94,7 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
     let mut profiles: Vec<Profile> = Vec::new();
     let mut noises: Vec<(String, u32, Option<f64>)> = Vec::new();
     for (name, view) in &b.scenes {
-        let (label, mut scene, scene_hash) = crate::scenes::open(Some(name), b.tessellation)?;
+        let (label, mut scene, scene_hash) = smlt::scenes::open(Some(name), b.tessellation)?;
         scene.select_view(*view)?;
         let (reference, noise) = match &b.reference {
             Some(path) => (given_reference(b, path)?, None),
@@ -139,7 +139,7 @@ fn reference_image(
     let device = gpu.filter(|g| g.info.device_type != wgpu::DeviceType::Cpu);
     let (sidecar, _) = cached_or_render(&path, scene, &rs, device, 16, |_| {})?;
     let noise = sidecar.noise_rmse;
-    let (_, _, reference) = crate::output::read_exr(&path)?;
+    let (_, _, reference) = smlt::output::read_exr(&path)?;
     Ok((reference, noise))
 }
 
@@ -152,7 +152,7 @@ fn given_reference(b: &BenchSettings, path: &Path) -> anyhow::Result<Vec<f32>> {
             b.scenes.len()
         );
     }
-    let (w, h, rgb) = crate::output::read_exr(path)?;
+    let (w, h, rgb) = smlt::output::read_exr(path)?;
     if (w, h) != (b.render.width, b.render.height) {
         anyhow::bail!(
             "--reference {} is {w}×{h}, the bench renders {}×{}",
@@ -188,23 +188,19 @@ fn equal_time(
     let EqualTime { scene, label, view, repeat, reference } = *run;
     let candidates = b.candidates.unwrap_or(render::default_candidates(gpu));
     let settings: Vec<Settings> = b.methods.iter().map(|&m| b.settings(m, repeat, candidates)).collect();
-    // One backend per method, all on the same device: the device's kept as such, for the
-    // per-pass profile after the equal-time runs.
-    let mut gpu_backends: Vec<GpuBackend> = Vec::new();
-    let mut cpu_backends: Vec<CpuBackend> = Vec::new();
+    // One backend per method, all on the same device, kept for the per-pass profile after the
+    // equal-time runs.
+    let mut backends: Vec<Box<dyn ProfiledBackend + '_>> = Vec::new();
     for s in &settings {
         let params = render::base_params(scene, s);
-        match gpu {
-            Some(g) => gpu_backends.push(GpuBackend::new(g.clone(), scene, &params)?),
-            None => cpu_backends.push(CpuBackend::new(scene, &params, b.threads)?),
-        }
+        backends.push(match gpu {
+            Some(g) => Box::new(GpuBackend::new(g.clone(), scene, &params)?),
+            None => Box::new(CpuBackend::new(scene, &params, b.threads)?),
+        });
     }
     let mut renderers: Vec<Renderer> = Vec::new();
-    let backends = gpu_backends
-        .iter_mut()
-        .map(|g| g as &mut dyn Backend)
-        .chain(cpu_backends.iter_mut().map(|c| c as &mut dyn Backend));
-    for (s, backend) in settings.iter().zip(backends) {
+    for (s, backend) in settings.iter().zip(backends.iter_mut()) {
+        let backend: &mut dyn Backend = backend.as_mut();
         renderers.push(Renderer::start(scene, s, backend, &mut |_: f64| {})?);
     }
     let mut last: Vec<Vec<f32>> = vec![Vec::new(); renderers.len()];
@@ -255,10 +251,7 @@ fn equal_time(
             let method = method.to_string();
             let measured = final_row(rows, label, view, &method).map_or(0.0, |r| r.mutations_per_s);
             let what = (label, view, method.as_str());
-            let p = match gpu_backends.get_mut(i) {
-                Some(device) => profile(device, scene, what, next[i], measured)?,
-                None => profile_cpu(&mut cpu_backends[i], scene, what, next[i], measured)?,
-            };
+            let p = backends[i].profile(scene, what, next[i], measured)?;
             log(&format!("profile {}", p.csv()));
             profiles.push(p);
         }
@@ -280,7 +273,7 @@ fn write_finals(
     let scale = 2.0 * finals.iter().map(|r| r.errors.rmse).fold(0.0, f64::max).max(1e-6);
     for (i, m) in b.methods.iter().enumerate() {
         let stem = format!("{label}_v{view}_{m}");
-        crate::output::write_images(
+        smlt::output::write_images(
             &b.out.join(format!("{stem}.exr")),
             b.render.width,
             b.render.height,

@@ -10,8 +10,8 @@ use std::sync::Arc;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::args::{exposure, positive_f64, ChainArgs, DeviceArgs, ImageArgs, PathArgs, SceneArgs};
-use crate::output::Exposure;
-use crate::render::{self, Budget, Integrator, Method, Settings, Shard};
+use smlt::output::Exposure;
+use smlt::render::{self, Budget, Integrator, Method, Settings, Shard};
 
 /// `smlt render`'s flags.
 #[derive(clap::Args)]
@@ -112,7 +112,7 @@ impl render::Observer for CliObserver<'_> {
 
     fn checkpoint(&mut self, image: &render::Rendered) {
         let exposure = self.exposure.map_or(Exposure::Auto, Exposure::Ev);
-        match crate::output::write_images_exposed(self.out, image.width, image.height, &image.rgb, exposure) {
+        match smlt::output::write_images_exposed(self.out, image.width, image.height, &image.rgb, exposure) {
             Ok(_) => self.checkpoints.set(self.checkpoints.get() + 1),
             Err(e) => self.bar.println(format!("warning: checkpoint not written: {e}")),
         }
@@ -125,7 +125,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Some(k) => PathBuf::from(format!("smlt.shard-{}-of-{}.exr", k.index, k.count)),
         None => PathBuf::from("smlt.exr"),
     });
-    crate::output::check_writable(&out)?;
+    smlt::output::check_writable(&out)?;
     let (scene, scene_hash) = a.scene.load()?;
     let budget = match (a.time, a.mutations_per_pixel) {
         (Some(t), _) => Budget::Seconds(t),
@@ -159,7 +159,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         None => Box::new(render::cpu::CpuBackend::new(&scene, &params, device.threads)?),
     };
     println!("device: {} — {why}", backend.describe());
-    let buffers_mib = crate::passes::buffers::device_bytes(&scene, &params) as f64 / 1048576.0;
+    let buffers_mib = smlt::passes::buffers::device_bytes(&scene, &params) as f64 / 1048576.0;
     let work = match settings.integrator {
         Integrator::PathTracer => format!(
             "{} samples per pixel an iteration{}",
@@ -215,12 +215,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let written = match a.shard {
         Some(shard) => {
-            let identity = crate::part::Identity::new(&scene.name, &scene_hash, a.scene.view, &settings);
-            crate::part::write_part(&out, &identity, shard, &result, &backend.describe())?;
+            let identity = smlt::part::Identity::new(&scene.name, &scene_hash, a.scene.view, &settings);
+            smlt::part::write_part(&out, &identity, shard, &result, &backend.describe())?;
             format!("part {shard}: {} (combine the parts with smlt merge)", out.display())
         }
         None => {
-            let ev = crate::output::write_images_exposed(
+            let ev = smlt::output::write_images_exposed(
                 &out,
                 result.width,
                 result.height,
@@ -230,7 +230,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             format!(
                 "{} and {} (PNG at {ev:+.2} EV{})",
                 out.display(),
-                crate::output::png_path(&out).display(),
+                smlt::output::png_path(&out).display(),
                 if a.exposure.is_none() { ", automatic" } else { "" }
             )
         }
@@ -298,7 +298,7 @@ pub fn print_summary(r: &render::Rendered, settings: &Settings) {
     if let Some(seconds) = s.importance_seconds {
         println!(
             "pixel importance     {} spp in {seconds:.2} s (before the clock)",
-            crate::render::importance::IMPORTANCE_SPP
+            smlt::render::importance::IMPORTANCE_SPP
         );
     }
     if s.bootstrap_seconds > 0.0 {

@@ -2,8 +2,8 @@
 //! (`results.csv`, read back by its header), and the selections the tables and plots make of
 //! them (each repeat's final row, intervals over repeats, curves along time).
 
-use crate::bench::interval::Interval;
-use crate::bench::metrics::Errors;
+use crate::interval::Interval;
+use crate::metrics::Errors;
 
 /// One measurement.
 #[derive(Clone, Debug, PartialEq)]

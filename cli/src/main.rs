@@ -1,10 +1,12 @@
-//! The `smlt` binary: parses the command line and runs the subcommand (`smlt::cmd`), with
+//! The `smlt` binary: parses the command line and runs the subcommand (`cmd`), with
 //! one-line errors and the exit codes of a command-line tool.
 
 use std::process::ExitCode;
 
+mod cmd;
+
 use clap::Parser;
-use smlt::cmd::Cli;
+use cmd::Cli;
 
 fn main() -> ExitCode {
     // Like other command-line tools, end quietly when stdout is a closed pipe (`smlt … | head`)
