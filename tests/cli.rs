@@ -762,7 +762,7 @@ fn malformed_scenes_are_refused_by_name() {
         check(&scene, expected);
     }
     // An index accessor whose count runs past its buffer view and is not a multiple of 3.
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes/cornell_box");
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/cornell_box");
     if shared.exists() {
         let mut doc: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(shared.join("cornell_box.gltf")).unwrap()).unwrap();

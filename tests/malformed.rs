@@ -74,7 +74,7 @@ fn bases() -> Vec<Base> {
     let uri = json["buffers"][0]["uri"].as_str().unwrap();
     let bin = base64::engine::general_purpose::STANDARD.decode(uri.split_once(',').unwrap().1).unwrap();
     out.push(Base { json, bin });
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes/cornell_box");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/cornell_box");
     match (std::fs::read_to_string(dir.join("cornell_box.gltf")), std::fs::read(dir.join("cornell_box.bin")))
     {
         (Ok(text), Ok(bin)) => out.push(Base { json: serde_json::from_str(&text).unwrap(), bin }),

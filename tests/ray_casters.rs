@@ -123,7 +123,7 @@ fn scenes() -> Vec<SceneData> {
             SceneData::from_slice(json.as_bytes(), name).expect("the scene loads")
         })
         .collect();
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes");
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes");
     for file in
         ["sibenik/sibenik.gltf", "sponza_dabrovic/sponza_dabrovic.gltf", "cornell_box/cornell_box.gltf"]
     {

@@ -150,13 +150,13 @@ fn the_atrium_sun_lights_the_banner() {
     }
 }
 
-/// The seed's Sponza with a specular banner, written from the Dabrovic Sponza in
+/// The paper's Sponza with a specular banner, written from the Dabrovic Sponza in
 /// `../shared/scenes/` (not committed: no licence terms): the model plus a Phong-1e5 banner and a
 /// sun, two views, and the model's own buffer found from wherever the variant is written.
 #[test]
 fn the_sponza_banner_variant_is_the_sponza_plus_a_banner_and_a_sun() {
     let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/scenes/sponza_dabrovic/sponza_dabrovic.gltf");
+        .join("../shared/scenes/sponza_dabrovic/sponza_dabrovic.gltf");
     if !source.exists() {
         assert_ne!(std::env::var("CI").as_deref(), Ok("true"), "CI=true and no {}", source.display());
         eprintln!("SKIPPED: no {}", source.display());
