@@ -512,8 +512,8 @@ fn every_pass_binds_what_its_kernel_declares() {
         assert_eq!(pass.writable(), declared(stage.entry_point()), "{}", stage.name());
     }
     let path_params = gpu.storage_from("path tracer params", &[render::path_params(&scene, &s)]);
-    let reference = passes::path_tracer::gpu(&gpu, &path_params, &buffers).unwrap();
-    assert_eq!(reference.writable(), declared("path_tracer_cs"));
+    let path_tracer = passes::path_tracer::gpu(&gpu, &path_params, &buffers).unwrap();
+    assert_eq!(path_tracer.writable(), declared("path_tracer_cs"));
     let ray_params = gpu.storage_from("raycast params", &[params]);
     let rays = gpu.storage_zeroed::<shared::rays::Ray>("rays", 64);
     let answers = gpu.storage_zeroed::<u32>("answers", 64);

@@ -32,7 +32,7 @@ fn the_committed_scenes_are_what_the_generators_write() {
 
 /// The knob reaches the paper's 75 K–330 K triangles at the documented values.
 #[test]
-fn tessellation_reaches_the_seeds_triangle_counts() {
+fn tessellation_reaches_the_papers_triangle_counts() {
     for (name, per_n2, low, high) in
         [("atrium", 120, 25, 52), ("nave", 180, 21, 43), ("sunblind", 116, 26, 53)]
     {

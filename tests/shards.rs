@@ -165,7 +165,7 @@ fn merges_of_parts_that_do_not_belong_together_are_refused() {
     type Change = fn(&mut Settings);
     let variants: [(&str, Change); 6] = [
         ("seed 5 vs 6", |s| s.seed = 6),
-        ("schedule", |s| *s = s.clone().with_method("s2".parse().unwrap())),
+        ("method naive vs s2", |s| *s = s.clone().with_method("s2".parse().unwrap())),
         ("width 20 vs 22", |s| s.width = 22),
         ("max depth", |s| s.max_depth = 3),
         ("candidates", |s| s.candidates = 1024),

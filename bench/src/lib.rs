@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 use shared::params::RenderParams;
 
 use metrics::{errors, heat_map};
-use profile::{Profile, ProfiledBackend};
+use profile::{profile, Profile, ProfiledBackend};
 use results::{final_row, Row, CSV_HEADER};
 use smlt::gpu::Gpu;
 use smlt::reference::{cached_or_render, ReferenceSettings};
@@ -251,7 +251,7 @@ fn equal_time(
             let method = method.to_string();
             let measured = final_row(rows, label, view, &method).map_or(0.0, |r| r.mutations_per_s);
             let what = (label, view, method.as_str());
-            let p = backends[i].profile(scene, what, next[i], measured)?;
+            let p = profile(backends[i].as_mut(), scene, what, next[i], measured)?;
             log(&format!("profile {}", p.csv()));
             profiles.push(p);
         }

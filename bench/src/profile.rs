@@ -119,72 +119,88 @@ pub fn csv_header() -> String {
 /// What a profile is of: scene label, view and method.
 pub type Profiled<'a> = (&'a str, u32, &'a str);
 
-/// A render backend the bench can look inside (both of smlt's): its stages timed, its
-/// candidates' rays replayed bare.
+/// A render backend the bench can look inside (both of smlt's): an iteration timed stage by
+/// stage, its candidates' rays logged, and those rays replayed bare where it casts them.
 pub trait ProfiledBackend: Backend {
-    /// Profiles `what`'s render of `scene` on this backend from `params` (the next
-    /// iteration's), whose equal-time run measured `mutations_per_s`: times
-    /// [`TIMED_ITERATIONS`] iterations pass by pass, then logs the rays of the last
-    /// iteration's candidates on the host and replays them bare where the backend casts them.
-    fn profile(
-        &mut self,
-        scene: &SceneData,
-        what: Profiled,
-        params: RenderParams,
-        mutations_per_s: f64,
-    ) -> Result<Profile, RenderError>;
+    /// One iteration with `params`, each stage's seconds and the clock that timed them.
+    fn timed_iteration(&mut self, params: &RenderParams) -> Result<(PassTimes, Clock), RenderError>;
+    /// The rays the candidates of the last iteration (`last`) cast, logged on the host: one log
+    /// per group of chains.
+    fn ray_logs(&self, scene: &SceneData, last: &RenderParams) -> Result<Vec<RayLog>, RenderError>;
+    /// Seconds a replay of `logs` takes, bare, where the backend casts rays.
+    fn replay_seconds(&self, scene: &SceneData, logs: &[RayLog]) -> Result<f64, RenderError>;
+    /// The host threads that replay (0 on a device).
+    fn replay_threads(&self) -> usize;
 }
 
 /// On a device: each stage timed by the device's timestamps, the rays replayed by the
 /// `raycast` kernel.
 impl ProfiledBackend for GpuBackend {
-    fn profile(
-        &mut self,
-        scene: &SceneData,
-        what: Profiled,
-        params: RenderParams,
-        mutations_per_s: f64,
-    ) -> Result<Profile, RenderError> {
-        let (last, clock, total) = timed_iterations(params, |p| self.iterate_timed(p))?;
-        let gpu = self.gpu().clone();
+    fn timed_iteration(&mut self, params: &RenderParams) -> Result<(PassTimes, Clock), RenderError> {
+        self.iterate_timed(params)
+    }
+
+    fn ray_logs(&self, scene: &SceneData, last: &RenderParams) -> Result<Vec<RayLog>, RenderError> {
         let c = last.candidates as usize;
-        let cand_u: Vec<f32> = gpu.read(&self.buffers().iteration.cand_u, c * last.dims as usize)?;
-        let cand_depth: Vec<u32> = gpu.read(&self.buffers().iteration.cand_depth, c)?;
-        let log = log_candidates(scene, &last, &cand_u, &cand_depth);
-        let replayed = replay(&gpu, scene, &log, REPLAYS)?;
-        Ok(assemble(scene, what, (&last, clock, total), &[log], replayed.seconds, mutations_per_s, 0))
+        let cand_u: Vec<f32> = self.gpu().read(&self.buffers().iteration.cand_u, c * last.dims as usize)?;
+        let cand_depth: Vec<u32> = self.gpu().read(&self.buffers().iteration.cand_depth, c)?;
+        Ok(vec![log_candidates(scene, last, &cand_u, &cand_depth)])
+    }
+
+    fn replay_seconds(&self, scene: &SceneData, logs: &[RayLog]) -> Result<f64, RenderError> {
+        let mut seconds = 0.0;
+        for log in logs {
+            seconds += replay(self.gpu(), scene, log, REPLAYS)?.seconds;
+        }
+        Ok(seconds)
+    }
+
+    fn replay_threads(&self) -> usize {
+        0
     }
 }
 
 /// On the CPU backend: each stage timed over all groups, the rays of every group's candidates
-/// logged and replayed bare on the backend's threads.
+/// replayed bare on the backend's threads.
 impl ProfiledBackend for CpuBackend<'_> {
-    fn profile(
-        &mut self,
-        scene: &SceneData,
-        what: Profiled,
-        params: RenderParams,
-        mutations_per_s: f64,
-    ) -> Result<Profile, RenderError> {
-        let (last, _, total) = timed_iterations(params, |p| Ok((self.iterate_timed(p), Clock::Wall)))?;
-        let logs: Vec<RayLog> = self
-            .candidates(&last)
+    fn timed_iteration(&mut self, params: &RenderParams) -> Result<(PassTimes, Clock), RenderError> {
+        Ok((self.iterate_timed(params), Clock::Wall))
+    }
+
+    fn ray_logs(&self, scene: &SceneData, last: &RenderParams) -> Result<Vec<RayLog>, RenderError> {
+        Ok(self
+            .candidates(last)
             .into_iter()
             .map(|(p, u, depth)| log_candidates(scene, &p, u, depth))
-            .collect();
-        let pool = self.thread_pool().expect("the CPU backend has a pool");
-        let replayed = replay_on_host(pool, scene, &logs, REPLAYS);
-        let threads = self.threads();
-        Ok(assemble(
-            scene,
-            what,
-            (&last, Clock::Wall, total),
-            &logs,
-            replayed.seconds,
-            mutations_per_s,
-            threads,
-        ))
+            .collect())
     }
+
+    fn replay_seconds(&self, scene: &SceneData, logs: &[RayLog]) -> Result<f64, RenderError> {
+        let pool = self.thread_pool().expect("the CPU backend has a pool");
+        Ok(replay_on_host(pool, scene, logs, REPLAYS).seconds)
+    }
+
+    fn replay_threads(&self) -> usize {
+        self.threads()
+    }
+}
+
+/// Profiles `what`'s render of `scene` on `backend` from `params` (the next iteration's), whose
+/// equal-time run measured `mutations_per_s`: times [`TIMED_ITERATIONS`] iterations stage by
+/// stage, then logs the rays of the last iteration's candidates on the host and replays them
+/// bare where the backend casts them.
+pub fn profile(
+    backend: &mut dyn ProfiledBackend,
+    scene: &SceneData,
+    what: Profiled,
+    params: RenderParams,
+    mutations_per_s: f64,
+) -> Result<Profile, RenderError> {
+    let (last, clock, total) = timed_iterations(params, |p| backend.timed_iteration(p))?;
+    let logs = backend.ray_logs(scene, &last)?;
+    let seconds = backend.replay_seconds(scene, &logs)?;
+    let threads = backend.replay_threads();
+    Ok(assemble(scene, what, (&last, clock, total), &logs, seconds, mutations_per_s, threads))
 }
 
 /// Runs [`TIMED_ITERATIONS`] iterations from `params` through `iterate` (seconds per stage and

@@ -9,7 +9,7 @@ use crate::results::{final_interval, views, Row};
 use crate::BenchSettings;
 use smlt::render::{Estimator, Method};
 
-/// The seed's Table 3 (million mutations/s) and Table 4 (PSNR after the full time), with RMSE
+/// The paper's Table 3 (million mutations/s) and Table 4 (PSNR after the full time), with RMSE
 /// and relMSE, as Markdown: methods down, scene views across, each cell the mean over the
 /// repeats of the final measurements with its 95 % interval; a cell is bold where that method
 /// is best and its interval overlaps no other method's.

@@ -58,13 +58,31 @@ impl Identity {
         }
     }
 
+    /// Whether a render could have this identity: its method is one the command line names (a
+    /// tree of depth 0 or 9, a reject chain of length 1, … are none), and it has pixels.
+    pub fn check(&self) -> Result<(), String> {
+        let method = self.settings.method();
+        if method.to_string().parse::<crate::render::Method>() != Ok(method) {
+            return Err(format!("its method {method:?} is none that smlt renders"));
+        }
+        if self.settings.width == 0 || self.settings.height == 0 || self.settings.candidates == 0 {
+            return Err("it has no pixels or no candidates".to_string());
+        }
+        Ok(())
+    }
+
     /// The first value in which `self` and `other` differ, as "where a vs b" (where is the
     /// field's path in words, e.g. `integrator Metropolis chains mutation p large 0.3 vs 0.5`
     /// for a setting), walking every field of both.
     pub fn difference(&self, other: &Identity) -> Option<String> {
-        let a = serde_json::to_value(self).ok()?;
-        let b = serde_json::to_value(other).ok()?;
-        first_difference("", &a, &b)
+        let (a, b) = (self.settings.method(), other.settings.method());
+        if a != b {
+            return Some(format!("method {a} vs {b}"));
+        }
+        match (serde_json::to_value(self), serde_json::to_value(other)) {
+            (Ok(a), Ok(b)) => first_difference("", &a, &b),
+            _ => Some("their identities cannot be compared".to_string()),
+        }
     }
 }
 
@@ -306,10 +324,15 @@ pub fn read_part(path: &Path) -> Result<Part, PartError> {
     let Some(AttributeValue::Text(text)) = layer.attributes.other.get(&Text::from(ATTRIBUTE)) else {
         return Err(PartError::NotAPart(shown));
     };
-    let header: Header = serde_json::from_str(&text.to_string()).map_err(|e| damaged(&e.to_string()))?;
-    if header.format != FORMAT {
-        return Err(damaged(&format!("format {} (this smlt reads {FORMAT})", header.format)));
+    // The format first, so that a part of another format is named as such, not as damaged.
+    let value: serde_json::Value =
+        serde_json::from_str(&text.to_string()).map_err(|e| damaged(&e.to_string()))?;
+    let format = value.get("format").and_then(|f| f.as_str()).unwrap_or("none");
+    if format != FORMAT {
+        return Err(damaged(&format!("format {format} (this smlt reads {FORMAT})")));
     }
+    let header: Header = serde_json::from_value(value).map_err(|e| damaged(&e.to_string()))?;
+    header.identity.check().map_err(|e| damaged(&e))?;
     let id = &header.identity;
     let (width, height) = (id.settings.width as usize, id.settings.height as usize);
     let pixels = width * height;
@@ -408,7 +431,7 @@ mod tests {
     use serde_json::Value;
 
     use super::*;
-    use crate::render::Method;
+    use crate::render::{Method, Schedule};
 
     fn identity() -> Identity {
         let s = Settings::default().with_method("path-s3".parse::<Method>().unwrap());
@@ -450,6 +473,25 @@ mod tests {
             let last = path.last().unwrap().replace('_', " ");
             assert!(difference.contains(&last), "{path:?}: {difference}");
         }
+    }
+
+    /// A part's identity names a render smlt could have made, or the part is refused.
+    #[test]
+    fn identities_of_no_render_are_refused() {
+        assert_eq!(identity().check(), Ok(()));
+        for schedule in
+            [Schedule::Tree(0), Schedule::Tree(9), Schedule::RejectChain(1), Schedule::RejectChain(65)]
+        {
+            let mut id = identity();
+            id.settings.metropolis_mut().unwrap().schedule = schedule;
+            assert!(id.check().unwrap_err().contains("is none that smlt renders"), "{schedule:?}");
+        }
+        let mut id = identity();
+        id.settings.width = 0;
+        assert!(id.check().is_err());
+        // Another method is named as such.
+        let other = Identity { settings: id.settings.clone().with_method(Method::PathTracer), ..identity() };
+        assert_eq!(identity().difference(&other).as_deref(), Some("method path-s3 vs pt"));
     }
 
     /// A field the settings gain (here added to a part's JSON, as a newer smlt would write it)

@@ -45,3 +45,36 @@ pub const ENTRY_POINTS: [&str; KERNELS.len()] = {
     }
     names
 };
+
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod tests {
+    use super::*;
+
+    /// Every declaration numbers its bindings 0, 1, … in order with no gap (what the entry point
+    /// and the host's binding list both follow), writes something and reads something, and
+    /// names each binding once.
+    #[test]
+    fn every_declaration_numbers_its_bindings_in_order() {
+        for k in KERNELS {
+            for (i, b) in k.bindings.iter().enumerate() {
+                assert_eq!((b.set, b.binding), (0, i as u32), "{}: {}", k.entry_point, b.name);
+                assert!(
+                    k.bindings[i + 1..].iter().all(|c| c.name != b.name),
+                    "{}: {} twice",
+                    k.entry_point,
+                    b.name
+                );
+            }
+            for (i, b) in stage::SCENE_BINDINGS.iter().enumerate() {
+                assert_eq!((b.set, b.binding), (stage::SCENE_SET, i as u32), "scene: {}", b.name);
+            }
+            let all = k.interface();
+            assert!(all.iter().any(|(_, _, w)| *w), "{} writes nothing", k.entry_point);
+            assert!(all.iter().any(|(_, _, w)| !*w), "{} reads nothing", k.entry_point);
+        }
+        let mut names: std::vec::Vec<&str> = KERNELS.iter().map(|k| k.entry_point).collect();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), KERNELS.len(), "an entry point twice");
+    }
+}

@@ -14,8 +14,9 @@
 //!
 //! A macro rather than a build step or a proc-macro crate: macro_rules runs inside rust-gpu's
 //! own compilation with nothing more to build, and the declaration stays beside the body it
-//! feeds. Binding numbers are written out (`#[spirv(binding = N)]` takes a literal); the host's
-//! test checks they count 0, 1, 2, … in order.
+//! feeds. Binding numbers are written out (`#[spirv(binding = N)]` takes a literal): they
+//! count 0, 1, 2, … in order, which `tests::every_declaration_numbers_its_bindings_in_order`
+//! (in `lib.rs`) checks, so a buffer inserted in the middle renumbers the ones after it.
 
 use shared::mmlt::{ChainState, PathInfo, PathVertex};
 use shared::params::RenderParams;

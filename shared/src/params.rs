@@ -42,7 +42,7 @@ pub struct RenderParams {
     pub height: u32,
     /// Maximum number of bounces (pbrt's maxdepth).
     pub max_depth: u32,
-    /// Primary sample dimensions, [`sample_dimensions`] of `max_depth`.
+    /// Primary sample dimensions, [`estimator_dimensions`] of the estimator and `max_depth`.
     pub dims: u32,
     /// Number of chains N.
     pub chains: u32,
@@ -74,8 +74,8 @@ pub struct RenderParams {
     pub estimator: u32,
 }
 
-/// The seed's estimator: Multiplexed MLT, one technique of one path depth per sample
-/// (this module).
+/// The paper's estimator: Multiplexed MLT, one technique of one path depth per sample
+/// (`crate::mmlt`).
 pub const ESTIMATOR_MULTIPLEXED: u32 = 0;
 /// Primary-sample-space MLT over the path tracer: every depth and both of its techniques per
 /// sample (`crate::pssmlt`).

@@ -112,14 +112,14 @@ impl KeyedSamples {
 impl PathSamples for KeyedSamples {
     #[inline]
     fn raster(&self) -> Vec2 {
-        let a = rng::uniform4(self.key, rng::STREAM_REFERENCE, 0);
+        let a = rng::uniform4(self.key, rng::STREAM_PATH_TRACER, 0);
         Vec2::new(a[0], a[1])
     }
 
     #[inline]
     fn vertex(&self, v: u32) -> [f32; 6] {
-        let a = rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v);
-        let b = rng::uniform4(self.key, rng::STREAM_REFERENCE, 2 * v + 1);
+        let a = rng::uniform4(self.key, rng::STREAM_PATH_TRACER, 2 * v);
+        let b = rng::uniform4(self.key, rng::STREAM_PATH_TRACER, 2 * v + 1);
         [a[0], a[1], a[2], a[3], b[0], b[1]]
     }
 }

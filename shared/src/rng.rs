@@ -32,8 +32,8 @@ pub const STREAM_CONTROL: u32 = 17;
 pub const STREAM_REJECT_PERTURBATION: u32 = 32;
 /// Streams of the large-step uniforms of reject-chain proposal i (i < 64 is added).
 pub const STREAM_REJECT_LARGE_STEP: u32 = 96;
-/// Stream of the reference path tracer (index: 2 · vertex + group).
-pub const STREAM_REFERENCE: u32 = 200;
+/// Stream of the path tracer (index: 2 · vertex + group).
+pub const STREAM_PATH_TRACER: u32 = 200;
 /// Stream used by the device self-test.
 pub const STREAM_SELFTEST: u32 = 255;
 

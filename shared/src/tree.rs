@@ -18,7 +18,7 @@
 //! number of the d steps that the chain spends in it, given the tree:
 //! `w(s) = Σ_{j=1..d} Σ_{h : state_after(j, h) = s} P(h)`, where P(h) is the probability of the
 //! j-decision prefix h. The weights sum to d. For d = 2 this is exactly the paper's Eq. 3.
-//! The seed's remark that for deeper trees "all (1 − a) become (2 − a)" does not hold beyond
+//! The paper's remark that for deeper trees "all (1 − a) become (2 − a)" does not hold beyond
 //! d = 2 (its weights would not sum to d); the forward pass here is checked against a
 //! brute-force enumeration of the chain instead (see the tests).
 //!

@@ -1,5 +1,5 @@
 //! `smlt bench`: the paper's evaluation — equal-time runs of the methods on scene views against
-//! their references (`crate::bench`).
+//! their references (`smlt_bench`).
 
 use std::path::PathBuf;
 

@@ -93,7 +93,7 @@ impl Storage for OnHost {
 
 /// One buffer as [`Sizes`] lists it.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Sized {
+pub struct BufferSize {
     /// What a kernel binds it by.
     pub name: &'static str,
     /// What a person reads.
@@ -106,18 +106,18 @@ pub struct Sized {
 
 /// No buffers: only each one's name, element type and byte size, in layout order.
 #[derive(Default)]
-pub struct Sizes(pub Vec<Sized>);
+pub struct Sizes(pub Vec<BufferSize>);
 
 impl Storage for Sizes {
     type Of<T: Pod> = ();
     type Registry = ();
     fn zeroed<T: Pod>(&mut self, name: &'static str, label: &'static str, count: usize) {
         let element = std::any::type_name::<T>();
-        self.0.push(Sized { name, label, element, bytes: (count * std::mem::size_of::<T>()) as u64 });
+        self.0.push(BufferSize { name, label, element, bytes: (count * std::mem::size_of::<T>()) as u64 });
     }
     fn copy_of<T: Pod>(&mut self, name: &'static str, label: &'static str, data: &[T]) {
         let element = std::any::type_name::<T>();
-        self.0.push(Sized { name, label, element, bytes: std::mem::size_of_val(data) as u64 });
+        self.0.push(BufferSize { name, label, element, bytes: std::mem::size_of_val(data) as u64 });
     }
     fn registry(&mut self) {}
 }
@@ -240,7 +240,7 @@ impl GpuBuffers {
 
 /// The device buffers of a render with their names, element types and byte sizes (for the
 /// limits check before allocating, the memory a render reports, and the binding test).
-pub fn buffer_sizes(scene: &SceneData, params: &RenderParams) -> Vec<Sized> {
+pub fn buffer_sizes(scene: &SceneData, params: &RenderParams) -> Vec<BufferSize> {
     let mut sizes = Sizes::default();
     DeviceBuffers::new(&mut sizes, scene, params);
     sizes.0
@@ -287,8 +287,8 @@ mod tests {
             }
         };
         for stage in Stage::ITERATION {
-            check(stage.name(), stage.bindings());
-            if stage.binds_scene() {
+            check(stage.name(), stage.kernel().bindings);
+            if stage.kernel().binds_scene {
                 check(stage.name(), SCENE_BINDINGS);
             }
         }

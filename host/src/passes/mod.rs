@@ -7,15 +7,15 @@ pub mod path_tracer;
 pub mod raycast;
 pub mod selftest;
 
-use kernels::stage::{Binding, SCENE_BINDINGS};
+use kernels::stage::{Binding, Kernel, SCENE_BINDINGS};
 use shared::params::RenderParams;
 
 use crate::gpu::{Gpu, GpuError};
 
-/// A stage of an iteration: one kernel run as one pass, found by the same name in three places
-/// — its math in `shared`, its body and `<name>_cs` entry point in `kernels/src/<name>.rs`, its
-/// bindings and CPU loop in `host/src/passes/<name>.rs`. The device backend, the CPU backend,
-/// the per-pass timings and their CSV all walk [`Stage::ITERATION`].
+/// A stage of an iteration: one kernel run as one pass, its math in `shared` and its
+/// declaration (bindings, entry point `<name>_cs`) and body in `kernels/src/<name>.rs`, from
+/// which both backends bind and run it. The device backend, the CPU backend, the per-pass
+/// timings and their CSV all walk [`Stage::ITERATION`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Stage {
     /// One invocation per candidate builds its primary samples.
@@ -38,7 +38,7 @@ impl Stage {
     pub const ITERATION: [Stage; Stage::COUNT] =
         [Stage::Mutate, Stage::Trace, Stage::Connect, Stage::Select, Stage::Splat];
 
-    /// The stage's name (its file names in `kernels/src` and `host/src/passes`).
+    /// The stage's name (its file's in `kernels/src`).
     pub fn name(self) -> &'static str {
         match self {
             Stage::Mutate => "mutate",
@@ -49,42 +49,27 @@ impl Stage {
         }
     }
 
+    /// The stage's kernel, as its declaration gives it.
+    pub fn kernel(self) -> Kernel {
+        use kernels::{connect, mutate, select, splat, trace};
+        match self {
+            Stage::Mutate => Kernel::of(mutate::ENTRY_POINT, mutate::BINDINGS, mutate::BINDS_SCENE),
+            Stage::Trace => Kernel::of(trace::ENTRY_POINT, trace::BINDINGS, trace::BINDS_SCENE),
+            Stage::Connect => Kernel::of(connect::ENTRY_POINT, connect::BINDINGS, connect::BINDS_SCENE),
+            Stage::Select => Kernel::of(select::ENTRY_POINT, select::BINDINGS, select::BINDS_SCENE),
+            Stage::Splat => Kernel::of(splat::ENTRY_POINT, splat::BINDINGS, splat::BINDS_SCENE),
+        }
+    }
+
     /// The kernel's entry point.
     pub fn entry_point(self) -> &'static str {
-        match self {
-            Stage::Mutate => kernels::mutate::ENTRY_POINT,
-            Stage::Trace => kernels::trace::ENTRY_POINT,
-            Stage::Connect => kernels::connect::ENTRY_POINT,
-            Stage::Select => kernels::select::ENTRY_POINT,
-            Stage::Splat => kernels::splat::ENTRY_POINT,
-        }
-    }
-
-    /// The kernel's own bindings, as its declaration lists them.
-    pub fn bindings(self) -> &'static [Binding] {
-        match self {
-            Stage::Mutate => kernels::mutate::BINDINGS,
-            Stage::Trace => kernels::trace::BINDINGS,
-            Stage::Connect => kernels::connect::BINDINGS,
-            Stage::Select => kernels::select::BINDINGS,
-            Stage::Splat => kernels::splat::BINDINGS,
-        }
-    }
-
-    /// Whether the kernel binds the scene as well.
-    pub fn binds_scene(self) -> bool {
-        match self {
-            Stage::Mutate => kernels::mutate::BINDS_SCENE,
-            Stage::Trace => kernels::trace::BINDS_SCENE,
-            Stage::Connect => kernels::connect::BINDS_SCENE,
-            Stage::Select => kernels::select::BINDS_SCENE,
-            Stage::Splat => kernels::splat::BINDS_SCENE,
-        }
+        self.kernel().entry_point
     }
 
     /// The stage's compute pass over a render's device buffers.
     pub fn pass(self, gpu: &Gpu, b: &buffers::GpuBuffers) -> Result<Pass, GpuError> {
-        Pass::new(gpu, self.entry_point(), self.bindings(), self.binds_scene(), &|name| b.named(name))
+        let k = self.kernel();
+        Pass::new(gpu, k.entry_point, k.bindings, k.binds_scene, &|name| b.named(name))
     }
 
     /// Its position in [`Stage::ITERATION`].

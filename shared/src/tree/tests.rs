@@ -145,7 +145,7 @@ fn acceptances_from_targets_follow_the_chain() {
 /// Seed Eq. 2 and Eq. 3 for d = 2, term by term. a1: root → candidate 0; a_1^2: root →
 /// candidate 1 (after a rejection); a_2^2: candidate 0 → candidate 2 (after an acceptance).
 #[test]
-fn depth_two_is_the_seeds_equations() {
+fn depth_two_is_the_papers_equations() {
     for (a1, a12, a22) in [(0.3f32, 0.6f32, 0.9f32), (1.0, 0.0, 0.5), (0.25, 0.75, 0.125)] {
         let mut accept = [0.0; MAX_TREE_CANDIDATES];
         accept[0] = a1;
@@ -164,12 +164,12 @@ fn depth_two_is_the_seeds_equations() {
     }
 }
 
-/// The seed's closing remark on Eq. 3 ("for deeper trees all (1 − a) become (2 − a)") read
+/// The paper's closing remark on Eq. 3 ("for deeper trees all (1 − a) become (2 − a)") read
 /// literally gives the root of a d = 3 tree the weight (1 − a1)(2 − b)(2 − c): with every
 /// acceptance 0 that is 4, but a 3-step chain that rejects everything spends 3 steps at the
 /// root. The forward pass gives 3, as the enumeration does.
 #[test]
-fn the_seeds_rule_for_deeper_trees_overcounts() {
+fn the_papers_rule_for_deeper_trees_overcounts() {
     let accept = [0.0; MAX_TREE_CANDIDATES];
     let (_, w) = run(3, &accept);
     let (a1, b, c) = (0.0f32, 0.0f32, 0.0f32);
