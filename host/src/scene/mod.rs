@@ -15,6 +15,7 @@
 //!   view looking down −Z at the centre of the scene's bounding box, from where the box's
 //!   larger side fills the view.
 
+mod parse;
 mod read;
 mod validate;
 

@@ -6,6 +6,7 @@ use std::path::Path;
 use glam::{Mat4, Vec3, Vec4Swizzles};
 use shared::bsdf::Material;
 
+use super::parse::{parse, Parsed};
 use super::{CameraSpec, SceneData, SceneError, TriangleSoup};
 
 /// The material-extras key holding the Phong exponent, e.g. `"extras": {"smlt_phong_exponent": 1e5}`.
@@ -22,33 +23,40 @@ impl SceneData {
         if path.is_dir() {
             return Err(SceneError::Load { path: name, reason: "is a directory, not a glTF file".into() });
         }
-        if let Ok(bytes) = std::fs::read(path) {
-            precheck(&bytes, &name)?;
-        }
-        let (doc, buffers, _images) = guarded(&name, || gltf::import(path))?.map_err(|e| {
-            let reason = match (&e, missing_resource(path)) {
-                (gltf::Error::Io(_), Some(uri)) => format!("the file it refers to, '{uri}', does not exist"),
-                _ => e.to_string(),
-            };
-            SceneError::Load { path: name.clone(), reason }
+        let bytes = std::fs::read(path)
+            .map_err(|e| SceneError::Load { path: name.clone(), reason: e.to_string() })?;
+        precheck(&bytes, &name)?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let parsed = guarded(&name, || parse(&bytes, &name, Some(base)))?.map_err(|e| {
+            match (&e, missing_resource(path)) {
+                (SceneError::Load { .. }, Some(uri)) => SceneError::Load {
+                    path: name.clone(),
+                    reason: format!("the file it refers to, '{uri}', does not exist"),
+                },
+                _ => e,
+            }
         })?;
-        check(&doc, &buffers, &name)?;
-        let soup = read_document(&doc, &buffers, &name)?;
-        Self::from_soup(soup, &name)
+        Self::from_parsed(parsed, &name)
     }
 
     /// Loads a glTF document held in memory (a .gltf with data URIs, or a .glb).
     pub fn from_slice(bytes: &[u8], name: &str) -> Result<Self, SceneError> {
         precheck(bytes, name)?;
-        let (doc, buffers, _images) = guarded(name, || gltf::import_slice(bytes))?
-            .map_err(|e| SceneError::Load { path: name.into(), reason: e.to_string() })?;
-        check(&doc, &buffers, name)?;
-        let soup = read_document(&doc, &buffers, name)?;
-        Self::from_soup(soup, name)
+        let parsed = guarded(name, || parse(bytes, name, None))??;
+        Self::from_parsed(parsed, name)
+    }
+
+    /// The scene of a parsed document.
+    fn from_parsed(parsed: Parsed, name: &str) -> Result<Self, SceneError> {
+        check(&parsed.doc, &parsed.buffers, name)?;
+        let soup = read_document(&parsed.doc, &parsed.buffers, &parsed.placeholders, name)?;
+        let mut scene = Self::from_soup(soup, name)?;
+        scene.warnings.extend(parsed.warnings);
+        Ok(scene)
     }
 }
 
-/// Runs the gltf crate's `import` on `f`, turning a panic inside it (seen: its validation
+/// Runs the gltf crate's parsing on `f`, turning a panic inside it (seen: its validation
 /// indexes `accessors` with a primitive's POSITION before checking it) into an error.
 /// The panic's own report is held back meanwhile, so that the error is the one line it makes
 /// (imports take turns, as the report hook is the process's).
@@ -86,7 +94,12 @@ fn precheck(bytes: &[u8], name: &str) -> Result<(), SceneError> {
         let primitives = mesh.get("primitives").and_then(|p| p.as_array()).map(Vec::as_slice).unwrap_or(&[]);
         for (p, prim) in primitives.iter().enumerate() {
             if let Some(k) = prim.get("attributes").and_then(|a| a.get("POSITION")) {
-                if !k.as_u64().is_some_and(|k| k < accessors) {
+                // An index written as a float with an integral value is an index (JSON does not
+                // tell them apart).
+                let index = k
+                    .as_u64()
+                    .or_else(|| k.as_f64().filter(|f| f.fract() == 0.0 && *f >= 0.0).map(|f| f as u64));
+                if !index.is_some_and(|k| k < accessors) {
                     return Err(SceneError::Malformed {
                         path: name.into(),
                         what: format!(
@@ -184,6 +197,7 @@ fn read_material(m: &gltf::Material, warnings: &mut Vec<String>, name: &str) -> 
 pub fn read_document(
     doc: &gltf::Document,
     buffers: &[gltf::buffer::Data],
+    placeholders: &[usize],
     name: &str,
 ) -> Result<TriangleSoup, SceneError> {
     let mut soup = TriangleSoup::default();
@@ -237,6 +251,16 @@ pub fn read_document(
                                 ),
                             });
                         }
+                        if !(p.yfov() < std::f32::consts::PI) {
+                            return Err(SceneError::Unsupported {
+                                path: name.into(),
+                                what: format!(
+                                    "cameras[{}].perspective.yfov: {} rad: a pinhole camera sees less than π",
+                                    cam.index(),
+                                    p.yfov()
+                                ),
+                            });
+                        }
                         soup.cameras.push(CameraSpec {
                             position,
                             forward,
@@ -269,10 +293,29 @@ pub fn read_document(
                 let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
                 let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
                 let malformed = |what: String| SceneError::Malformed { path: name.into(), what };
-                let local: Vec<[f32; 3]> = reader
-                    .read_positions()
-                    .ok_or_else(|| malformed(format!("{at}: no POSITION accessor")))?
-                    .collect();
+                for accessor in prim.attributes().map(|(_, a)| a).chain(prim.indices()) {
+                    let views = accessor.view().into_iter().chain(
+                        accessor.sparse().into_iter().flat_map(|s| [s.indices().view(), s.values().view()]),
+                    );
+                    if let Some(b) = views.map(|v| v.buffer().index()).find(|b| placeholders.contains(b)) {
+                        return Err(SceneError::Unsupported {
+                            path: name.into(),
+                            what: format!(
+                                "{at} reads buffers[{b}], whose data is not in the file (no uri, no BIN chunk)"
+                            ),
+                        });
+                    }
+                }
+                let Some(positions_accessor) = prim.get(&gltf::Semantic::Positions) else {
+                    soup.warnings.push(format!("{at} has no POSITION: skipped, as the spec says"));
+                    continue;
+                };
+                let local: Vec<[f32; 3]> = match reader.read_positions() {
+                    Some(p) => p.collect(),
+                    // No view and no sparse values: zeros, as the spec says.
+                    None if positions_accessor.view().is_none() => vec![[0.0; 3]; positions_accessor.count()],
+                    None => return Err(malformed(format!("{at}: its POSITION accessor cannot be read"))),
+                };
                 if let Some(i) = local.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
                     return Err(malformed(format!("{at}: POSITION {i} is not finite: {:?}", local[i])));
                 }
@@ -284,12 +327,21 @@ pub fn read_document(
                         positions[i]
                     )));
                 }
-                let indices: Vec<u32> = match reader.read_indices() {
-                    Some(i) => i.into_u32().collect(),
-                    None => (0..positions.len() as u32).collect(),
+                let indices: Vec<u32> = match (reader.read_indices(), prim.indices()) {
+                    (Some(i), _) => i.into_u32().collect(),
+                    // An index accessor without a view or sparse values: zeros, as the spec says.
+                    (None, Some(a)) => vec![0; a.count()],
+                    (None, None) => (0..positions.len() as u32).collect(),
                 };
                 let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
-                let (triples, _) = indices.as_chunks::<3>();
+                let (triples, rest) = indices.as_chunks::<3>();
+                if !rest.is_empty() {
+                    soup.warnings.push(format!(
+                        "{at}: {} indices (or vertices) are no multiple of 3: the last {} form no triangle",
+                        indices.len(),
+                        rest.len()
+                    ));
+                }
                 for tri in triples {
                     let mut v = [Vec3::ZERO; 3];
                     for (k, &i) in tri.iter().enumerate() {

@@ -50,9 +50,6 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
     let mut counts = Vec::new();
     for (i, a) in accessors.iter().enumerate() {
         let at = format!("accessors[{i}]");
-        if a.get("sparse").is_some() {
-            return Err(format!("{at}: sparse accessors are not supported"));
-        }
         let count = uint(a, "count", &at)?.ok_or(format!("{at}: no count"))?;
         if count == 0 {
             return Err(format!("{at}: count is 0"));
@@ -91,6 +88,9 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
                 ));
             }
         }
+        if let Some(sparse) = a.get("sparse") {
+            check_sparse(sparse, count, component * components, &views, &format!("{at}.sparse"))?;
+        }
         counts.push((count, component, components, a.get("componentType").and_then(Value::as_u64)));
     }
     for (m, mesh) in list("meshes").iter().enumerate() {
@@ -100,32 +100,23 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
             if uint(prim, "mode", &at)?.unwrap_or(4) != 4 {
                 continue; // the reader refuses modes other than TRIANGLES
             }
-            let position = prim.get("attributes").and_then(|a| a.get("POSITION")).and_then(Value::as_u64);
-            let vertices = match position.and_then(|k| counts.get(k as usize)) {
-                Some(&(count, 4, 3, Some(5126))) => count,
-                Some(_) => return Err(format!("{at}: POSITION must be a VEC3 of floats")),
-                None => return Err(format!("{at}: no POSITION accessor")),
+            let Some(position) = prim.get("attributes").and_then(|a| a.get("POSITION")) else {
+                continue; // nothing to draw: the reader skips it, as the spec says
             };
-            match uint(prim, "indices", &at)? {
-                Some(k) => {
-                    let &(count, _, components, kind) = counts
-                        .get(k as usize)
-                        .ok_or(format!("{at}.indices: accessors[{k}] does not exist"))?;
-                    if components != 1 || !matches!(kind, Some(5121 | 5123 | 5125)) {
-                        return Err(format!("{at}.indices: accessors[{k}] must be unsigned integer scalars"));
-                    }
-                    if count % 3 != 0 {
-                        return Err(format!(
-                            "{at}.indices: accessors[{k}] holds {count} indices, not a multiple of 3 (triangles)"
-                        ));
-                    }
+            match position.as_u64().and_then(|k| counts.get(k as usize)) {
+                Some(&(_, 4, 3, Some(5126))) => {}
+                Some(_) => return Err(format!("{at}: POSITION must be a VEC3 of floats")),
+                None => return Err(format!("{at}: POSITION accessor {position} does not exist")),
+            }
+            // An index (or vertex) count that is no multiple of 3 leaves an incomplete triangle,
+            // which the reader drops with a warning (the validator's warning
+            // MESH_PRIMITIVE_INCOMPATIBLE_MODE).
+            if let Some(k) = uint(prim, "indices", &at)? {
+                let &(_, _, components, kind) =
+                    counts.get(k as usize).ok_or(format!("{at}.indices: accessors[{k}] does not exist"))?;
+                if components != 1 || !matches!(kind, Some(5121 | 5123 | 5125)) {
+                    return Err(format!("{at}.indices: accessors[{k}] must be unsigned integer scalars"));
                 }
-                None if vertices % 3 != 0 => {
-                    return Err(format!(
-                        "{at}: {vertices} vertices without indices, not a multiple of 3 (triangles)"
-                    ))
-                }
-                None => {}
             }
         }
     }
@@ -150,8 +141,8 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
         if let Some(p) = camera.get("perspective") {
             let at = format!("cameras[{c}].perspective");
             let yfov = number(p, "yfov", &at)?.ok_or(format!("{at}: no yfov"))?;
-            if !(yfov > 0.0 && yfov < std::f64::consts::PI) {
-                return Err(format!("{at}.yfov: {} rad is not in (0, π)", yfov as f32));
+            if !(yfov > 0.0 && yfov.is_finite()) {
+                return Err(format!("{at}.yfov: {} rad is not a positive angle", yfov as f32));
             }
             if let Some(aspect) = number(p, "aspectRatio", &at)? {
                 if !(aspect > 0.0) {
@@ -220,6 +211,44 @@ fn numbers(v: &Value, len: usize) -> Option<Vec<f64>> {
     (a.len() == len && values.len() == len).then_some(values)
 }
 
+/// The sparse part of an accessor of `count` elements of `element` bytes: at most `count`
+/// substitutions, unsigned integer indices, and both its index and value views long enough.
+fn check_sparse(
+    sparse: &Value,
+    count: u64,
+    element: u64,
+    views: &[(u64, Option<u64>)],
+    at: &str,
+) -> Result<(), String> {
+    let n = uint(sparse, "count", at)?.ok_or(format!("{at}: no count"))?;
+    if n == 0 || n > count {
+        return Err(format!("{at}: count {n} is not in 1..={count}"));
+    }
+    let part = |name: &str, size: Option<u64>| -> Result<(), String> {
+        let at = format!("{at}.{name}");
+        let v = sparse.get(name).ok_or(format!("{at}: missing"))?;
+        let size = match size {
+            Some(s) => s,
+            None => match uint(v, "componentType", &at)? {
+                Some(5121) => 1,
+                Some(5123) => 2,
+                Some(5125) => 4,
+                other => return Err(format!("{at}: componentType {other:?} is no unsigned integer type")),
+            },
+        };
+        let view = uint(v, "bufferView", &at)?.ok_or(format!("{at}: no bufferView"))?;
+        let (length, _) =
+            *views.get(view as usize).ok_or(format!("{at}: bufferView {view} does not exist"))?;
+        let offset = uint(v, "byteOffset", &at)?.unwrap_or(0);
+        if offset as u128 + n as u128 * size as u128 > length as u128 {
+            return Err(format!("{at}: {n} elements of {size} bytes from byteOffset {offset} run past bufferViews[{view}] ({length} bytes)"));
+        }
+        Ok(())
+    };
+    part("indices", None)?;
+    part("values", Some(element))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -257,7 +286,11 @@ mod tests {
             ("/bufferViews/0/byteStride", json!(7), "bufferViews[0]: byteStride 7"),
             ("/nodes/0/rotation", json!([0, 0, 0, 2]), "nodes[0].rotation: the quaternion has length 2"),
             ("/cameras/0/perspective/yfov", json!(-1), "cameras[0].perspective.yfov: -1"),
-            ("/cameras/0/perspective/yfov", json!(3.2), "not in (0, π)"),
+            (
+                "/cameras/0/perspective/yfov",
+                json!(0),
+                "cameras[0].perspective.yfov: 0 rad is not a positive angle",
+            ),
             ("/cameras/0/perspective/aspectRatio", json!(0), "aspectRatio: 0 is not positive"),
             (
                 "/materials/0/pbrMetallicRoughness/baseColorFactor",
@@ -274,10 +307,25 @@ mod tests {
             assert!(err.contains(expected), "{pointer}: {err}");
             assert!(!err.contains('\n'));
         }
+        // Two indices are no whole triangle, but valid glTF: the reader drops them with a warning.
         let mut d = doc();
         d["accessors"][1]["count"] = json!(2);
         d["bufferViews"][1]["byteLength"] = json!(12);
-        assert!(validate(&d, &[48]).unwrap_err().contains("2 indices, not a multiple of 3"));
+        assert_eq!(validate(&d, &[48]), Ok(()));
+        // A sparse part must lie within its views.
+        let mut d = doc();
+        d["accessors"][0]["sparse"] = json!({
+            "count": 1,
+            "indices": {"bufferView": 1, "componentType": 5125},
+            "values": {"bufferView": 1, "byteOffset": 8}
+        });
+        assert!(validate(&d, &[48])
+            .unwrap_err()
+            .contains("accessors[0].sparse.values: 1 elements of 12 bytes"));
+        d["accessors"][0]["sparse"]["values"]["byteOffset"] = json!(0);
+        assert_eq!(validate(&d, &[48]), Ok(()));
+        d["accessors"][0]["sparse"]["count"] = json!(99);
+        assert!(validate(&d, &[48]).unwrap_err().contains("accessors[0].sparse: count 99"));
         assert!(validate(&doc(), &[40]).unwrap_err().contains("the buffer holds 40 bytes"));
         let mut d = doc();
         d["materials"][0]["extensions"] =

@@ -1,0 +1,271 @@
+//! From a file's bytes to a glTF document and its buffers, as the glTF 2.0 spec reads them.
+//!
+//! The gltf crate's types and validation are stricter than the spec in a few places, and the
+//! Khronos validator's own assets (`tests/khronos/`) hold valid files that it refuses. So the
+//! JSON is first made what the crate can hold, with nothing the spec means changed:
+//! - numbers written as floats with an integral value (`0.0` for an index) become integers;
+//! - a scene without `nodes` gets an empty list;
+//! - `animations` are dropped: smlt renders one instant and reads none of them (said once, as
+//!   a warning, where a file has any);
+//! - an accessor no mesh primitive reads becomes a stub, as nothing reads it.
+//!
+//! Then the crate's validation runs, less what the spec allows: an accessor without a
+//! `bufferView` (its values are zeros, or its sparse values), a texture whose image comes from an
+//! extension or the application, and a primitive without positions (skipped). Images are never
+//! decoded (smlt reads no texture yet), so no image can fail a load. Buffers are read from the
+//! file's own folder or `data:` URIs; a buffer whose data is not in the file (no URI in a `.gltf`,
+//! no `BIN` chunk in a `.glb`) or that no mesh reads (whatever its source) reads as zeros, and is
+//! refused by name if a mesh uses it ([`Parsed::placeholders`]). An unsupported required
+//! extension is refused as such, by name.
+
+use std::path::Path;
+
+use serde_json::Value;
+
+use super::SceneError;
+
+/// A parsed document, its buffers, and what was set aside on the way.
+pub struct Parsed {
+    #[allow(missing_docs)] // the document
+    pub doc: gltf::Document,
+    /// Every buffer's bytes, in document order.
+    pub buffers: Vec<gltf::buffer::Data>,
+    /// Buffers whose data the file does not hold (read as zeros).
+    pub placeholders: Vec<usize>,
+    /// What was read leniently or set aside, for the loader's warnings.
+    pub warnings: Vec<String>,
+}
+
+/// Parses `bytes` (a `.gltf` or a `.glb`) named `name`, whose external buffers lie relative to
+/// `base` (None: a document held in memory, which may use `data:` URIs only).
+pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, SceneError> {
+    let load = |reason: String| SceneError::Load { path: name.into(), reason };
+    let (json, blob) =
+        if bytes.starts_with(b"glTF") { split_glb(bytes).map_err(load)? } else { (bytes.to_vec(), None) };
+    let mut value: Value =
+        serde_json::from_slice(&json).map_err(|e| load(format!("invalid glTF JSON: {e}")))?;
+    let mut warnings = Vec::new();
+    normalise(&mut value, &mut warnings);
+    let root: gltf::json::Root =
+        serde_json::from_value(value).map_err(|e| load(format!("invalid glTF: {e}")))?;
+    validate(&root).map_err(|what| match what.strip_prefix("extensionsRequired") {
+        Some(_) => {
+            SceneError::Unsupported { path: name.into(), what: format!("a required extension: {what}") }
+        }
+        None => load(format!("invalid glTF: {what}")),
+    })?;
+    let used = used_buffers(&root);
+    let doc = gltf::Document::from_json_without_validation(root);
+    let (buffers, placeholders) = read_buffers(&doc, base, blob, &used, name)?;
+    Ok(Parsed { doc, buffers, placeholders, warnings })
+}
+
+/// What the gltf crate's types cannot hold but the spec allows, made what they can (see the
+/// module doc).
+fn normalise(value: &mut Value, warnings: &mut Vec<String>) {
+    integers(value);
+    // An accessor no mesh primitive reads is never read: a stub keeps the indices of the others
+    // and leaves nothing in it to trip over (an unknown type, say).
+    let used = used_accessor_indices(value);
+    if let Some(accessors) = value.get_mut("accessors").and_then(Value::as_array_mut) {
+        for (i, a) in accessors.iter_mut().enumerate() {
+            if !used.contains(&i) {
+                *a = serde_json::json!({"componentType": 5126, "count": 1, "type": "SCALAR"});
+            }
+        }
+    }
+    if let Some(scenes) = value.get_mut("scenes").and_then(Value::as_array_mut) {
+        for scene in scenes.iter_mut().filter_map(Value::as_object_mut) {
+            scene.entry("nodes").or_insert_with(|| Value::Array(Vec::new()));
+        }
+    }
+    if let Some(object) = value.as_object_mut() {
+        if let Some(animations) = object.remove("animations") {
+            let n = animations.as_array().map_or(0, Vec::len);
+            warnings.push(format!("{n} animation(s) ignored: smlt renders the scene as it stands"));
+        }
+    }
+}
+
+/// The accessors a mesh primitive reads, from the JSON (attributes, morph targets, indices).
+fn used_accessor_indices(value: &Value) -> Vec<usize> {
+    let mut used = Vec::new();
+    let index = |v: &Value| v.as_u64().map(|i| i as usize);
+    for mesh in value.get("meshes").and_then(Value::as_array).into_iter().flatten() {
+        for prim in mesh.get("primitives").and_then(Value::as_array).into_iter().flatten() {
+            let maps = prim
+                .get("attributes")
+                .into_iter()
+                .chain(prim.get("targets").and_then(Value::as_array).into_iter().flatten());
+            for map in maps.filter_map(Value::as_object) {
+                used.extend(map.values().filter_map(index));
+            }
+            used.extend(prim.get("indices").and_then(index));
+        }
+    }
+    used
+}
+
+/// Every float with an integral value in `v` as an integer (JSON does not tell them apart; the
+/// gltf crate's index and count fields want integers).
+fn integers(v: &mut Value) {
+    match v {
+        Value::Number(n) if !n.is_i64() && !n.is_u64() => {
+            if let Some(f) = n.as_f64() {
+                if f.fract() == 0.0 && f.abs() < 9.0e15 {
+                    *v = if f < 0.0 { Value::from(f as i64) } else { Value::from(f as u64) };
+                }
+            }
+        }
+        Value::Array(items) => items.iter_mut().for_each(integers),
+        Value::Object(fields) => fields.values_mut().for_each(integers),
+        _ => {}
+    }
+}
+
+/// The gltf crate's validation of `root`, less what the spec allows (see the module doc); the
+/// first finding as "path: error".
+fn validate(root: &gltf::json::Root) -> Result<(), String> {
+    use gltf::json::validation::{Error, Validate};
+    let used = used_accessors(root);
+    let mut findings = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |path, error| findings.push((path().to_string(), error)));
+    let allowed = |path: &str, error: &Error| {
+        let index = |prefix: &str| {
+            path.strip_prefix(prefix)
+                .and_then(|rest| rest.split(']').next())
+                .and_then(|i| i.parse::<usize>().ok())
+        };
+        if let Some(a) = index("accessors[") {
+            // Zeros (or sparse values) without a view; nothing at all where no mesh reads it.
+            return !used.contains(&a) || (path.ends_with("].bufferView") && matches!(error, Error::Missing));
+        }
+        if index("textures[").is_some() {
+            // Optional in glTF 2.0: an extension or the application supplies the image.
+            return path.ends_with("].source") && matches!(error, Error::Missing);
+        }
+        // A primitive without positions is skipped (the spec: clients skip it).
+        path.starts_with("meshes[")
+            && path.ends_with(r#".attributes["POSITION"]"#)
+            && matches!(error, Error::Missing)
+    };
+    match findings.iter().find(|(path, error)| !allowed(path, error)) {
+        Some((path, error)) => Err(format!("{path}: {error}")),
+        None => Ok(()),
+    }
+}
+
+/// The buffers the accessors a mesh primitive reads lie in (their views and sparse views).
+fn used_buffers(root: &gltf::json::Root) -> Vec<usize> {
+    let views = |a: &gltf::json::Accessor| {
+        let sparse =
+            a.sparse.iter().flat_map(|s| [s.indices.buffer_view.value(), s.values.buffer_view.value()]);
+        a.buffer_view.map(|v| v.value()).into_iter().chain(sparse).collect::<Vec<_>>()
+    };
+    used_accessors(root)
+        .into_iter()
+        .filter_map(|a| root.accessors.get(a))
+        .flat_map(views)
+        .filter_map(|v| root.buffer_views.get(v).map(|v| v.buffer.value()))
+        .collect()
+}
+
+/// The accessors a mesh primitive reads (attributes, morph targets, indices).
+fn used_accessors(root: &gltf::json::Root) -> Vec<usize> {
+    let mut used = Vec::new();
+    for mesh in &root.meshes {
+        for prim in &mesh.primitives {
+            used.extend(prim.attributes.values().map(|a| a.value()));
+            used.extend(prim.indices.map(|a| a.value()));
+            for target in prim.targets.iter().flatten() {
+                used.extend(
+                    target.positions.iter().chain(&target.normals).chain(&target.tangents).map(|a| a.value()),
+                );
+            }
+        }
+    }
+    used
+}
+
+/// Every buffer's bytes: from the `.glb`'s `BIN` chunk, a `data:` URI or a file beside the
+/// document; zeros where the file holds no data (their indices returned too).
+fn read_buffers(
+    doc: &gltf::Document,
+    base: Option<&Path>,
+    mut blob: Option<Vec<u8>>,
+    used: &[usize],
+    name: &str,
+) -> Result<(Vec<gltf::buffer::Data>, Vec<usize>), SceneError> {
+    let mut buffers = Vec::new();
+    let mut placeholders = Vec::new();
+    for buffer in doc.buffers() {
+        let unsupported = |what: String| SceneError::Unsupported { path: name.into(), what };
+        let data = match gltf::buffer::Data::from_source_and_blob(buffer.source(), base, &mut blob) {
+            Ok(data) => data,
+            // A buffer no mesh reads is never read: whatever is wrong with its source.
+            Err(_) if !used.contains(&buffer.index()) => {
+                placeholders.push(buffer.index());
+                gltf::buffer::Data(vec![0; buffer.length()])
+            }
+            Err(gltf::Error::MissingBlob) => {
+                placeholders.push(buffer.index());
+                gltf::buffer::Data(vec![0; buffer.length()])
+            }
+            Err(gltf::Error::UnsupportedScheme) => {
+                return Err(unsupported(format!(
+                    "buffers[{}].uri: only files beside the document and data: URIs are read",
+                    buffer.index()
+                )))
+            }
+            Err(gltf::Error::ExternalReferenceInSliceImport) => {
+                return Err(SceneError::Load {
+                    path: name.into(),
+                    reason: format!(
+                        "buffers[{}] refers to a file, but the document was given without a folder",
+                        buffer.index()
+                    ),
+                })
+            }
+            Err(e) => return Err(SceneError::Load { path: name.into(), reason: e.to_string() }),
+        };
+        if data.len() < buffer.length() {
+            return Err(SceneError::Malformed {
+                path: name.into(),
+                what: format!(
+                    "buffers[{}]: byteLength {} but its data holds {} bytes",
+                    buffer.index(),
+                    buffer.length(),
+                    data.len()
+                ),
+            });
+        }
+        buffers.push(data);
+    }
+    Ok((buffers, placeholders))
+}
+
+/// The JSON and the `BIN` chunk of a `.glb` (the spec's layout: a 12-byte header, a JSON chunk,
+/// then chunks of which the first `BIN` one is the buffer); bytes after the header's length and
+/// chunks of other types are ignored, as the spec asks of readers.
+fn split_glb(bytes: &[u8]) -> Result<(Vec<u8>, Option<Vec<u8>>), String> {
+    let word =
+        |at: usize| bytes.get(at..at + 4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]) as usize);
+    let version = word(4).ok_or("the .glb header is cut short")?;
+    if version != 2 {
+        return Err(format!("binary glTF version {version} (this reads version 2)"));
+    }
+    let total = word(8).ok_or("the .glb header is cut short")?.min(bytes.len());
+    let (mut at, mut json, mut bin) = (12usize, None, None);
+    while at + 8 <= total {
+        let (length, kind) = (word(at).unwrap_or(0), word(at + 4).unwrap_or(0));
+        let data =
+            bytes.get(at + 8..(at + 8).saturating_add(length)).ok_or("a .glb chunk runs past the file")?;
+        match kind {
+            0x4E4F534A if json.is_none() => json = Some(data.to_vec()),
+            0x004E4942 if json.is_some() && bin.is_none() => bin = Some(data.to_vec()),
+            _ => {}
+        }
+        at = at + 8 + length.next_multiple_of(4);
+    }
+    Ok((json.ok_or("the .glb has no JSON chunk")?, bin))
+}
