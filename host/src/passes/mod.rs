@@ -122,15 +122,12 @@ impl Pass {
         let mut buffers: Vec<Vec<&'b wgpu::Buffer>> = Vec::new();
         for set in &sets {
             let mut list = Vec::new();
-            for (i, b) in set.iter().enumerate() {
+            for b in set.iter() {
                 let problem = |problem: String| GpuError::Binding {
                     entry: entry.to_string(),
                     binding: b.name.to_string(),
                     problem,
                 };
-                if b.binding as usize != i {
-                    return Err(problem(format!("as binding {} where {i} was next", b.binding)));
-                }
                 let named = find(b.name).ok_or_else(|| problem("no buffer has that name".to_string()))?;
                 if named.element != (b.element)() {
                     return Err(problem(format!(

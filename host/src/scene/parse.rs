@@ -127,7 +127,6 @@ fn integers(v: &mut Value) {
 /// first finding as "path: error".
 fn validate(root: &gltf::json::Root) -> Result<(), String> {
     use gltf::json::validation::{Error, Validate};
-    let used = used_accessors(root);
     let mut findings = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |path, error| findings.push((path().to_string(), error)));
     let allowed = |path: &str, error: &Error| {
@@ -136,9 +135,9 @@ fn validate(root: &gltf::json::Root) -> Result<(), String> {
                 .and_then(|rest| rest.split(']').next())
                 .and_then(|i| i.parse::<usize>().ok())
         };
-        if let Some(a) = index("accessors[") {
-            // Zeros (or sparse values) without a view; nothing at all where no mesh reads it.
-            return !used.contains(&a) || (path.ends_with("].bufferView") && matches!(error, Error::Missing));
+        if index("accessors[").is_some() {
+            // Zeros (or sparse values) without a view (and so every stub `normalise` left).
+            return path.ends_with("].bufferView") && matches!(error, Error::Missing);
         }
         if index("textures[").is_some() {
             // Optional in glTF 2.0: an extension or the application supplies the image.
@@ -155,36 +154,19 @@ fn validate(root: &gltf::json::Root) -> Result<(), String> {
     }
 }
 
-/// The buffers the accessors a mesh primitive reads lie in (their views and sparse views).
+/// The buffers the accessors lie in (their views and sparse views): after `normalise` every
+/// accessor left with a view is one a mesh primitive reads.
 fn used_buffers(root: &gltf::json::Root) -> Vec<usize> {
     let views = |a: &gltf::json::Accessor| {
         let sparse =
             a.sparse.iter().flat_map(|s| [s.indices.buffer_view.value(), s.values.buffer_view.value()]);
         a.buffer_view.map(|v| v.value()).into_iter().chain(sparse).collect::<Vec<_>>()
     };
-    used_accessors(root)
-        .into_iter()
-        .filter_map(|a| root.accessors.get(a))
+    root.accessors
+        .iter()
         .flat_map(views)
         .filter_map(|v| root.buffer_views.get(v).map(|v| v.buffer.value()))
         .collect()
-}
-
-/// The accessors a mesh primitive reads (attributes, morph targets, indices).
-fn used_accessors(root: &gltf::json::Root) -> Vec<usize> {
-    let mut used = Vec::new();
-    for mesh in &root.meshes {
-        for prim in &mesh.primitives {
-            used.extend(prim.attributes.values().map(|a| a.value()));
-            used.extend(prim.indices.map(|a| a.value()));
-            for target in prim.targets.iter().flatten() {
-                used.extend(
-                    target.positions.iter().chain(&target.normals).chain(&target.tangents).map(|a| a.value()),
-                );
-            }
-        }
-    }
-    used
 }
 
 /// Every buffer's bytes: from the `.glb`'s `BIN` chunk, a `data:` URI or a file beside the
