@@ -250,7 +250,9 @@ impl<'a> Difftest<'a> {
             .count();
         let nonzero = cpu.iteration.contributions.iter().filter(|v| v.truncate().max_element() > 0.0).count();
         println!("{}: connected contributions differing: {differ} of {c} ({nonzero} non-zero)", self.method);
-        assert!(differ <= allowed(c) && nonzero > c / 10);
+        // Not a vacuous check: a twentieth of the candidates carry light at least (the lamps'
+        // open sky leaves most of them dark).
+        assert!(differ <= allowed(c) && nonzero > c / 20);
         for (x, y) in cpu.iteration.contributions.iter().zip(&dev_contrib) {
             assert_eq!(unpack_contribution(*x).1, unpack_contribution(*y).1, "pixel bits");
         }
@@ -362,7 +364,12 @@ fn difftest(gpu: Gpu, method: Schedule) {
 /// [`difftest`] with chains over `estimator`.
 fn difftest_estimator(gpu: Gpu, method: Schedule, estimator: render::Estimator) {
     let scene = SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell");
-    let mut t = Difftest::new(gpu, method, estimator, &scene);
+    difftest_scene(gpu, method, estimator, &scene);
+}
+
+/// [`difftest_estimator`] on `scene`.
+fn difftest_scene(gpu: Gpu, method: Schedule, estimator: render::Estimator, scene: &SceneData) {
+    let mut t = Difftest::new(gpu, method, estimator, scene);
     t.bootstrap();
     t.mutate();
     t.trace();
@@ -385,6 +392,17 @@ fn path_estimator_passes_agree_on_device_and_cpu() {
         difftest_estimator(gpu.clone(), Schedule::Tree(1), render::Estimator::Path);
         difftest_estimator(gpu.clone(), Schedule::Tree(3), render::Estimator::Path);
         difftest_estimator(gpu, Schedule::RejectChain(4), render::Estimator::Path);
+    }
+}
+
+/// Under punctual lights (`lamps`: a point lamp, a spot and a sun): their light subpaths,
+/// connections and weights, and the path estimator's next-event estimation.
+#[test]
+fn punctual_light_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("punctual_light_passes_agree_on_device_and_cpu") {
+        let scene = SceneData::from_slice(include_bytes!("../scenes/lamps.gltf"), "lamps").expect("lamps");
+        difftest_scene(gpu.clone(), Schedule::Tree(1), render::Estimator::Multiplexed, &scene);
+        difftest_scene(gpu, Schedule::Tree(1), render::Estimator::Path, &scene);
     }
 }
 

@@ -220,9 +220,103 @@ fn zero_area_emitters_are_not_lights() {
     soup.material_of = vec![0, 0];
     let scene = SceneData::from_soup(soup.clone(), "lamps").unwrap();
     assert_eq!(scene.lights.len(), 1);
-    let light = scene.triangles[scene.lights[0].triangle as usize];
+    let light = scene.triangles[scene.lights[0].light as usize];
     assert!(light.area > 0.0 && (light.light_area_pdf - 2.0).abs() < 1e-6);
     soup.triangles.pop();
     soup.material_of.pop();
     assert!(matches!(SceneData::from_soup(soup, "degenerate"), Err(SceneError::NoEmitter(_))));
+}
+
+/// A document lit by one `KHR_lights_punctual` light (the JSON of the light, on a node with
+/// `node` fields), marked required as Blender's exporter marks it: a floor quad and a camera.
+fn lamp_doc(light: Value, node: Value) -> Value {
+    let mut b = GltfBuilder::new();
+    let m = b.material("floor", [0.5; 3], [0.0; 3], 1.0, None);
+    b.quad(
+        m,
+        [Vec3::new(-1., 0., 1.), Vec3::new(1., 0., 1.), Vec3::new(1., 0., -1.), Vec3::new(-1., 0., -1.)],
+    );
+    b.camera(Vec3::new(0.0, 2.0, 3.0), Vec3::ZERO, Vec3::Y, 0.8);
+    let mut doc: Value = serde_json::from_str(&b.to_json()).unwrap();
+    let mut node = node;
+    node["extensions"] = json!({"KHR_lights_punctual": {"light": 0}});
+    doc["nodes"].as_array_mut().unwrap().push(node);
+    let n = doc["nodes"].as_array().unwrap().len() - 1;
+    doc["scenes"][0]["nodes"].as_array_mut().unwrap().push(json!(n));
+    doc["extensions"] = json!({"KHR_lights_punctual": {"lights": [light]}});
+    doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    doc["extensionsRequired"] = json!(["KHR_lights_punctual"]);
+    doc
+}
+
+/// Blender marks `KHR_lights_punctual` required whenever a lamp exists: such a file loads,
+/// its lights on their nodes' world transforms (shining down the node's −Z) in Blender's
+/// units (candela / 683 W/sr, lux / 683 W/m²), and a scene lit only by them needs no emitter.
+#[test]
+fn punctual_lights_load_on_their_nodes_in_blender_s_units() {
+    use shared::punctual::{DIRECTIONAL, POINT, SPOT};
+    let down = json!([-std::f32::consts::FRAC_1_SQRT_2, 0.0, 0.0, std::f32::consts::FRAC_1_SQRT_2]);
+    let point = lamp_doc(
+        json!({"type": "point", "color": [1.0, 0.5, 0.25], "intensity": 683.0}),
+        json!({"translation": [0.5, 2.0, -0.5]}),
+    );
+    let scene = load(&point).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(scene.punctual.len(), 1);
+    let l = scene.punctual[0];
+    assert_eq!((l.kind, l.position, l.intensity), (POINT, [0.5, 2.0, -0.5], [1.0, 0.5, 0.25]));
+    assert_eq!(scene.lights.len(), 1, "the point light is the one entry of the light CDF");
+    assert!(shared::light::is_punctual(scene.lights[0].light));
+    // A spot on a parent rotated to look down: its axis is the parent's −Z in world space.
+    let mut spot = lamp_doc(
+        json!({"type": "spot", "intensity": 1366.0, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}}),
+        json!({"translation": [0.0, 0.0, 0.0]}),
+    );
+    let light_node = spot["nodes"].as_array().unwrap().len() - 1;
+    spot["nodes"].as_array_mut().unwrap().push(json!({"translation": [0.0, 2.0, 0.0], "rotation": down, "scale": [3.0, 3.0, 3.0], "children": [light_node]}));
+    let parent = spot["nodes"].as_array().unwrap().len() - 1;
+    let roots = spot["scenes"][0]["nodes"].as_array_mut().unwrap();
+    roots.retain(|n| n.as_u64() != Some(light_node as u64));
+    roots.push(json!(parent));
+    let scene = load(&spot).unwrap();
+    let l = scene.punctual[0];
+    assert_eq!(l.kind, SPOT);
+    assert!((glam::Vec3::from_array(l.position) - Vec3::new(0.0, 2.0, 0.0)).length() < 1e-5);
+    assert!((glam::Vec3::from_array(l.direction) - Vec3::NEG_Y).length() < 1e-5, "{:?}", l.direction);
+    assert_eq!(l.intensity, [2.0; 3], "scale changes no brightness");
+    assert!((l.cos_inner - 0.2f32.cos()).abs() < 1e-6 && (l.cos_outer - 0.5f32.cos()).abs() < 1e-6);
+    // A sun: lux / 683, its disk the bounding sphere of the floor.
+    let sun = lamp_doc(json!({"type": "directional", "intensity": 341.5}), json!({"rotation": down}));
+    let scene = load(&sun).unwrap();
+    let l = scene.punctual[0];
+    assert_eq!((l.kind, l.intensity), (DIRECTIONAL, [0.5; 3]));
+    assert!((glam::Vec3::from_array(l.direction) - Vec3::NEG_Y).length() < 1e-5);
+    assert!((l.radius - 2f32.sqrt()).abs() < 1e-4 && l.position == [0.0; 3], "{l:?}");
+}
+
+/// Lights outside the spec's ranges are refused in one line naming the light by its glTF path;
+/// `range` is ignored with a warning; a zero-intensity light is no light.
+#[test]
+fn punctual_lights_outside_the_spec_are_refused_by_path() {
+    let cases = [
+        (json!({"type": "point", "intensity": -1.0}), "lights[0].intensity"),
+        (json!({"type": "point", "color": [1.5, 1.0, 1.0]}), "lights[0].color"),
+        (
+            json!({"type": "spot", "spot": {"innerConeAngle": 0.6, "outerConeAngle": 0.5}}),
+            "spot.innerConeAngle",
+        ),
+        (json!({"type": "spot", "spot": {"outerConeAngle": 2.0}}), "spot.outerConeAngle"),
+    ];
+    for (light, what) in cases {
+        let err = load(&lamp_doc(light.clone(), json!({}))).err().unwrap_or_else(|| panic!("{light} loaded"));
+        let line = err.to_string();
+        assert!(matches!(err, SceneError::Malformed { .. }) && line.contains(what), "{light}: {line}");
+        assert!(!line.contains('\n'), "{line}");
+    }
+    let unknown = load(&lamp_doc(json!({"type": "spherical"}), json!({}))).unwrap_err().to_string();
+    assert!(unknown.contains("unsupported") && unknown.contains("lights[0].type: 'spherical'"), "{unknown}");
+    let ranged = load(&lamp_doc(json!({"type": "point", "range": 3.0}), json!({}))).unwrap();
+    assert!(ranged.warnings.iter().any(|w| w.contains("range is ignored")), "{:?}", ranged.warnings);
+    let dark = load(&lamp_doc(json!({"type": "point", "intensity": 0.0}), json!({})));
+    assert!(matches!(dark, Err(SceneError::NoEmitter(_))), "{dark:?}");
 }

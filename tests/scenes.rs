@@ -21,6 +21,7 @@ fn the_committed_scenes_are_what_the_generators_write() {
         ("nave", include_str!("../scenes/nave.gltf")),
         ("sunblind", include_str!("../scenes/sunblind.gltf")),
         ("slit", include_str!("../scenes/slit.gltf")),
+        ("lamps", include_str!("../scenes/lamps.gltf")),
     ] {
         assert_eq!(
             text,
@@ -47,9 +48,15 @@ fn tessellation_reaches_the_papers_triangle_counts() {
 /// Every view of every scene receives light (the reference estimator sees something).
 #[test]
 fn every_view_is_lit() {
-    for (name, view) in
-        [("atrium", 1), ("atrium", 2), ("nave", 1), ("sunblind", 1), ("slit", 1), ("cornell", 1)]
-    {
+    for (name, view) in [
+        ("atrium", 1),
+        ("atrium", 2),
+        ("nave", 1),
+        ("sunblind", 1),
+        ("slit", 1),
+        ("cornell", 1),
+        ("lamps", 1),
+    ] {
         let mut scene = load(name, 1);
         scene.select_view(view).unwrap();
         let s = ReferenceSettings {
@@ -75,7 +82,7 @@ fn every_view_is_lit() {
 #[test]
 fn the_sunblind_light_is_invisible_from_the_room() {
     let scene = load("sunblind", 1);
-    let light = scene.lights[0].triangle;
+    let light = scene.lights[0].light;
     let mut state = 12345u32;
     let mut next = || {
         state ^= state << 13;
@@ -86,7 +93,7 @@ fn the_sunblind_light_is_invisible_from_the_room() {
     let mut through = 0;
     for _ in 0..200_000 {
         let p = Vec3::new(-2.9 + 5.8 * next(), 0.05 + 2.9 * next(), -2.9 + 5.8 * next());
-        let lights: Vec<_> = scene.lights.iter().map(|l| scene.triangles[l.triangle as usize]).collect();
+        let lights: Vec<_> = scene.lights.iter().map(|l| scene.triangles[l.light as usize]).collect();
         let t = lights[(next() * lights.len() as f32) as usize % lights.len()];
         let q = t.point(next() * 0.5, next() * 0.5);
         let d = (q - p).normalize();

@@ -92,6 +92,7 @@ pub const SCENE_BINDINGS: &[Binding] = &[
     scene_binding(1, "triangles", core::any::type_name::<shared::triangle::Triangle>),
     scene_binding(2, "materials", core::any::type_name::<shared::bsdf::Material>),
     scene_binding(3, "lights", core::any::type_name::<shared::light::LightEntry>),
+    scene_binding(4, "punctual", core::any::type_name::<shared::punctual::PunctualLight>),
 ];
 
 const fn scene_binding(binding: u32, name: &'static str, element: fn() -> &'static str) -> Binding {
@@ -279,12 +280,14 @@ macro_rules! stage {
             #[spirv(storage_buffer, descriptor_set = 1, binding = 1)] triangles: &[shared::triangle::Triangle],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 2)] materials: &[shared::bsdf::Material],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 3)] lights: &[shared::light::LightEntry],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 4)] punctual: &[shared::punctual::PunctualLight],
         ], [
             scene: shared::scene::Scene {
                 caster: shared::cwbvh::WideBvh { nodes, triangles },
                 triangles,
                 materials,
                 lights,
+                punctual,
             },
         ]);
         impl<$lt, $r: shared::ray_caster::RayCaster + Copy> $io<$lt, $r> {

@@ -12,8 +12,8 @@
 //! - [`tree`]: the speculative mutation tree (the paper's §4, Eq. 2 and Eq. 3 generalised);
 //! - [`reject_chain`]: the reject chain of Byrd et al. (the paper's §3.3);
 //! - [`layout`]: SoA indexing and the packed `float4` contribution;
-//! - [`camera`], [`bsdf`], [`light`], [`triangle`]: the scene primitives, and [`color`]'s
-//!   luminance;
+//! - [`camera`], [`bsdf`], [`light`], [`punctual`], [`triangle`]: the scene primitives, and
+//!   [`color`]'s luminance;
 //! - [`params`]: what every dispatch of the chains' stages knows;
 //! - [`ray_caster`]: the one seam between the path code and ray casting (and the ray origin
 //!   offset every path code uses), and [`cwbvh`], the
@@ -40,6 +40,7 @@ pub mod normalisation;
 pub mod params;
 pub mod path_tracer;
 pub mod pssmlt;
+pub mod punctual;
 pub mod ray_caster;
 pub mod rays;
 pub mod reject_chain;

@@ -1,55 +1,91 @@
-//! Area lights: emissive triangles. A light point is chosen by picking an emissive triangle in
-//! proportion to its power (area × luminance of its emission; a CDF over the emissive
-//! triangles is uploaded) and a uniform point on it; its area density is therefore
-//! `pick(triangle) / area(triangle)`, which each triangle carries ([`crate::triangle::Triangle`]).
-//! Emission is one-sided, along the triangle's geometric normal (counter-clockwise winding),
-//! and directions leaving a light are sampled cosine-weighted about that normal.
+//! The scene's lights, and picking one: emissive triangles (area lights) and punctual lights
+//! (`crate::punctual`: point, spot, directional). A light is picked in proportion to its power
+//! (a CDF over every emitter is uploaded; a triangle's power is its area × the luminance of its
+//! emission, a punctual light's [`crate::punctual::PunctualLight::selection_power`], the same
+//! scale), then a point on it: a uniform point on a triangle, whose area density is therefore
+//! `pick(triangle) / area(triangle)`, which each triangle carries
+//! ([`crate::triangle::Triangle`]); a punctual light's origin (its position, or a point on a
+//! directional light's disk).
+//!
+//! A triangle's emission is one-sided, along its geometric normal (counter-clockwise winding),
+//! and directions leaving it are sampled cosine-weighted about that normal.
 
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
 use glam::{Vec2, Vec3};
 
-use crate::bsdf::Material;
-use crate::triangle::Triangle;
+use crate::scene::Scene;
+
+/// The bit of [`LightEntry::light`] that marks a punctual light (the rest is its index among
+/// the scene's punctual lights); without it the entry is a triangle's index.
+pub const PUNCTUAL: u32 = 1 << 31;
+
+/// Whether the light id `light` ([`LightEntry::light`]) is a punctual light's.
+#[inline]
+pub fn is_punctual(light: u32) -> bool {
+    light & PUNCTUAL != 0
+}
+
+/// The index among the scene's punctual lights of the punctual light id `light`.
+#[inline]
+pub fn punctual_index(light: u32) -> u32 {
+    light & !PUNCTUAL
+}
 
 /// A point sampled on the lights.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LightPoint {
-    /// The point.
+    /// The point: on an emissive triangle, a point or spot light's position, or a point on a
+    /// directional light's disk.
     pub p: Vec3,
-    /// The light's normal there (its triangle's geometric normal).
+    /// A triangle's geometric normal there; a spot's axis or a directional light's direction.
     pub n: Vec3,
-    /// Its triangle.
-    pub triangle: u32,
-    /// The triangle's material.
+    /// Which light ([`LightEntry::light`]).
+    pub light: u32,
+    /// A triangle's material (0 for a punctual light).
     pub material: u32,
-    /// The area density the point was sampled with (`Triangle::light_area_pdf`).
+    /// The area density the point was sampled with: the pick probability times the density
+    /// of the point on the light (`Triangle::light_area_pdf` for a triangle; the pick for a
+    /// point or spot light, a delta; pick / (π r²) on a directional light's disk).
     pub pdf_area: f32,
-    /// Emitted radiance of the light's material (`Material::emission`).
+    /// The probability with which the light was picked.
+    pub pick: f32,
+    /// A triangle's emitted radiance (`Material::emission`); a punctual light's intensity or
+    /// irradiance (`PunctualLight::intensity`).
     pub emission: Vec3,
 }
 
-/// Picks a light point from `u_pick` and `u_point` (area density `triangle.light_area_pdf`).
+/// Picks a light from `u_pick` and a point on it from `u_point` (see [`LightPoint`]).
 #[inline]
-pub fn sample_light(
-    lights: &[LightEntry],
-    light_count: u32,
-    tris: &[Triangle],
-    materials: &[Material],
-    u_pick: f32,
-    u_point: Vec2,
-) -> LightPoint {
-    let entry = lights[pick_light(lights, light_count, u_pick) as usize];
-    let tri = tris[entry.triangle as usize];
+pub fn sample_light<R>(scene: &Scene<R>, light_count: u32, u_pick: f32, u_point: Vec2) -> LightPoint {
+    let k = pick_light(scene.lights, light_count, u_pick);
+    let entry = scene.lights[k as usize];
+    let below = if k > 0 { scene.lights[k as usize - 1].cdf } else { 0.0 };
+    let pick = entry.cdf - below;
+    if is_punctual(entry.light) {
+        let light = scene.punctual[punctual_index(entry.light) as usize];
+        let (p, pdf_origin) = light.sample_origin(u_point);
+        return LightPoint {
+            p,
+            n: Vec3::from_array(light.direction),
+            light: entry.light,
+            material: 0,
+            pdf_area: pick * pdf_origin,
+            pick,
+            emission: Vec3::from_array(light.intensity),
+        };
+    }
+    let tri = scene.triangles[entry.light as usize];
     let b = uniform_triangle(u_point);
     LightPoint {
         p: tri.point(b.x, b.y),
         n: tri.normal(),
-        triangle: entry.triangle,
+        light: entry.light,
         material: tri.material,
         pdf_area: tri.light_area_pdf,
-        emission: Vec3::from_array(materials[tri.material as usize].emission),
+        pick,
+        emission: Vec3::from_array(scene.materials[tri.material as usize].emission),
     }
 }
 
@@ -57,8 +93,8 @@ pub fn sample_light(
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct LightEntry {
-    /// The emissive triangle.
-    pub triangle: u32,
+    /// The light: an emissive triangle's index, or [`PUNCTUAL`] | a punctual light's index.
+    pub light: u32,
     /// Running sum of the pick probabilities up to and including this entry (the last is 1).
     pub cdf: f32,
 }
@@ -97,12 +133,13 @@ pub fn emitted(emission: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     }
 }
 
-/// The light-selection CDF of triangles of the given emitted `power` (area × luminance of
-/// emission; ≤ 0 for non-emitters), and each triangle's light area density
-/// `pick(triangle) / area(triangle)` (0 for non-emitters). None when nothing emits. What
-/// [`pick_light`] searches, built on the host.
+/// The light-selection CDF over the lights of the given `power` (on the scale of the module
+/// doc; ≤ 0 for what does not emit), `ids` their [`LightEntry::light`]s, and each light's
+/// pick probability divided by `area` (a triangle's light area density; pass 1 for a punctual
+/// light to get its pick). None when nothing emits. What [`pick_light`] searches, built on the
+/// host.
 #[cfg(not(target_arch = "spirv"))]
-pub fn light_cdf(power: &[f64], area: &[f32]) -> Option<(Vec<LightEntry>, Vec<f32>)> {
+pub fn light_cdf(power: &[f64], area: &[f32], ids: &[u32]) -> Option<(Vec<LightEntry>, Vec<f32>)> {
     let total: f64 = power.iter().filter(|p| **p > 0.0).sum();
     if !(total > 0.0) {
         return None;
@@ -113,7 +150,7 @@ pub fn light_cdf(power: &[f64], area: &[f32]) -> Option<(Vec<LightEntry>, Vec<f3
     for (i, &p) in power.iter().enumerate() {
         if p > 0.0 {
             running += p;
-            lights.push(LightEntry { triangle: i as u32, cdf: (running / total) as f32 });
+            lights.push(LightEntry { light: ids[i], cdf: (running / total) as f32 });
             pdf[i] = (p / total / area[i] as f64) as f32;
         }
     }
@@ -131,21 +168,26 @@ mod tests {
     fn light_cdf_is_proportional_to_power() {
         let power = [0.0, 2.0, 0.0, 6.0, -1.0];
         let area = [1.0, 0.5, 1.0, 3.0, 1.0];
-        let (lights, pdf) = light_cdf(&power, &area).unwrap();
-        assert_eq!(lights, vec![LightEntry { triangle: 1, cdf: 0.25 }, LightEntry { triangle: 3, cdf: 1.0 }]);
+        let ids = [0, 1, 2, 3 | PUNCTUAL, 4];
+        let (lights, pdf) = light_cdf(&power, &area, &ids).unwrap();
+        assert_eq!(
+            lights,
+            vec![LightEntry { light: 1, cdf: 0.25 }, LightEntry { light: 3 | PUNCTUAL, cdf: 1.0 }]
+        );
         assert_eq!(pdf, vec![0.0, 0.5, 0.0, 0.25, 0.0]);
         assert_eq!(pick_light(&lights, 2, 0.2), 0);
         assert_eq!(pick_light(&lights, 2, 0.3), 1);
-        assert!(light_cdf(&[0.0, -1.0], &[1.0, 1.0]).is_none());
+        assert!(light_cdf(&[0.0, -1.0], &[1.0, 1.0], &[0, 1]).is_none());
+        assert!(is_punctual(lights[1].light) && punctual_index(lights[1].light) == 3);
     }
 
     #[test]
     fn picking_inverts_the_cdf() {
         let lights = [
-            LightEntry { triangle: 4, cdf: 0.25 },
-            LightEntry { triangle: 9, cdf: 0.25 }, // zero-probability entry
-            LightEntry { triangle: 2, cdf: 0.75 },
-            LightEntry { triangle: 7, cdf: 1.0 },
+            LightEntry { light: 4, cdf: 0.25 },
+            LightEntry { light: 9, cdf: 0.25 }, // zero-probability entry
+            LightEntry { light: 2, cdf: 0.75 },
+            LightEntry { light: 7, cdf: 1.0 },
         ];
         assert_eq!(pick_light(&lights, 4, 0.0), 0);
         assert_eq!(pick_light(&lights, 4, 0.2499), 0);

@@ -21,7 +21,7 @@ use glam::{Vec2, Vec3};
 use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample};
 use crate::camera::Camera;
 use crate::light::emitted;
-use crate::light::sample_light;
+use crate::light::{is_punctual, punctual_index, sample_light};
 use crate::ray_caster::spawn;
 use crate::ray_caster::RayCaster;
 use crate::rng::{self, RngKey};
@@ -200,32 +200,39 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         let u = samples.vertex(v);
         vertices = v;
         // Next-event estimation: one light sample from this vertex.
-        let ls = sample_light(
-            scene.lights,
-            settings.light_count,
-            scene.triangles,
-            scene.materials,
-            u[0],
-            Vec2::new(u[1], u[2]),
-        );
-        let (q, nq) = (ls.p, ls.n);
-        let to_light = q - p;
-        let dist2 = to_light.length_squared();
-        if dist2 > 0.0 && ls.pdf_area > 0.0 {
-            let dist = dist2.sqrt();
-            let wl = to_light / dist;
-            let le = emitted(ls.emission, nq, -wl);
-            let f = bsdf_eval(&m, n, wo, wl);
-            let cos_l = nq.dot(wl).abs();
-            if le.max_element() > 0.0 && f.max_element() > 0.0 && cos_l > 0.0 {
-                let pdf_light = ls.pdf_area * dist2 / cos_l;
-                let from = spawn(p, n, wl, settings.epsilon);
-                let target = spawn(q, nq, -wl, settings.epsilon);
-                let span = target - from;
+        let ls = sample_light(&scene, settings.light_count, u[0], Vec2::new(u[1], u[2]));
+        if is_punctual(ls.light) {
+            // A delta light: no BSDF sample finds it, so the light sample takes it all.
+            let inc = scene.punctual[punctual_index(ls.light) as usize].incident(p);
+            let f = bsdf_eval(&m, n, wo, inc.wi);
+            if inc.radiance.max_element() > 0.0 && f.max_element() > 0.0 && ls.pick > 0.0 {
+                let from = spawn(p, n, inc.wi, settings.epsilon);
+                let span = inc.from - from;
                 let len = span.length();
-                if !scene.caster.occluded(from, span / len, 0.0, len) {
-                    let weight = power_heuristic(pdf_light, bsdf_pdf(&m, n, wo, wl));
-                    radiance += beta * f * le * (n.dot(wl).abs() * weight / pdf_light);
+                if len > 0.0 && !scene.caster.occluded(from, span / len, 0.0, len) {
+                    radiance += beta * f * inc.radiance * (n.dot(inc.wi).abs() / ls.pick);
+                }
+            }
+        } else {
+            let (q, nq) = (ls.p, ls.n);
+            let to_light = q - p;
+            let dist2 = to_light.length_squared();
+            if dist2 > 0.0 && ls.pdf_area > 0.0 {
+                let dist = dist2.sqrt();
+                let wl = to_light / dist;
+                let le = emitted(ls.emission, nq, -wl);
+                let f = bsdf_eval(&m, n, wo, wl);
+                let cos_l = nq.dot(wl).abs();
+                if le.max_element() > 0.0 && f.max_element() > 0.0 && cos_l > 0.0 {
+                    let pdf_light = ls.pdf_area * dist2 / cos_l;
+                    let from = spawn(p, n, wl, settings.epsilon);
+                    let target = spawn(q, nq, -wl, settings.epsilon);
+                    let span = target - from;
+                    let len = span.length();
+                    if !scene.caster.occluded(from, span / len, 0.0, len) {
+                        let weight = power_heuristic(pdf_light, bsdf_pdf(&m, n, wo, wl));
+                        radiance += beta * f * le * (n.dot(wl).abs() * weight / pdf_light);
+                    }
                 }
             }
         }

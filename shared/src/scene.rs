@@ -1,9 +1,10 @@
 //! The scene as the kernels see it: a ray caster over the triangles, and the triangles,
-//! materials and light-selection CDF that shading and light sampling read (slices of device
+//! materials, punctual lights and light-selection CDF that shading and light sampling read (slices of device
 //! buffers on the device, of host buffers on the CPU backend).
 
 use crate::bsdf::Material;
 use crate::light::LightEntry;
+use crate::punctual::PunctualLight;
 use crate::triangle::Triangle;
 
 /// The scene, over the ray caster `R` (the one seam between the path code and ray casting).
@@ -15,6 +16,9 @@ pub struct Scene<'a, R> {
     pub triangles: &'a [Triangle],
     #[allow(missing_docs)] // indexed by Triangle::material
     pub materials: &'a [Material],
-    /// Light-selection CDF.
+    /// Light-selection CDF over the emissive triangles and the punctual lights.
     pub lights: &'a [LightEntry],
+    /// The punctual lights (`LightEntry::light` indexes them; at least one entry, zeroed when
+    /// the scene has none, as a device buffer cannot be empty).
+    pub punctual: &'a [PunctualLight],
 }

@@ -12,6 +12,7 @@ use shared::cwbvh::WideNode;
 use shared::light::LightEntry;
 use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex};
 use shared::params::{RenderParams, ESTIMATOR_PATH};
+use shared::punctual::PunctualLight;
 use shared::triangle::Triangle;
 
 use super::{Named, Stage};
@@ -179,6 +180,8 @@ pub struct SceneBuffers<S: Storage> {
     pub materials: S::Of<Material>,
     /// The light-selection CDF.
     pub lights: S::Of<LightEntry>,
+    /// The punctual lights (at least one entry).
+    pub punctual: S::Of<PunctualLight>,
 }
 
 impl<S: Storage> SceneBuffers<S> {
@@ -189,6 +192,7 @@ impl<S: Storage> SceneBuffers<S> {
             triangles: s.copy_of("triangles", "triangles", &scene.triangles),
             materials: s.copy_of("materials", "materials", &scene.materials),
             lights: s.copy_of("lights", "lights", &scene.lights),
+            punctual: s.copy_of("punctual", "punctual lights", scene.punctual_lights()),
         }
     }
 

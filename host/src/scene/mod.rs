@@ -9,16 +9,20 @@
 //!   from the material's extras, key [`PHONG_EXPONENT_KEY`] (absent or 0: Lambertian).
 //!   Textures and other material extensions change the image but are not modelled: each is
 //!   named in a printed warning;
+//! - punctual lights (`KHR_lights_punctual`: point, spot, directional) on their nodes, in
+//!   Blender's units (`lights`);
 //! - perspective cameras, in the order of a depth-first walk of the scene: view 1 is the first
 //!   (`--view N` picks another; each node looks down −Z with +Y up; the image aspect comes from
 //!   the render's width/height). Without one, the documented default: a 40° vertical field of
 //!   view looking down −Z at the centre of the scene's bounding box, from where the box's
 //!   larger side fills the view.
 
+mod lights;
 mod parse;
 mod read;
 mod validate;
 
+pub use lights::LUMENS_PER_WATT;
 pub use read::{files_hash, read_document, PHONG_EXPONENT_KEY};
 
 use glam::Vec3;
@@ -27,7 +31,8 @@ use shared::bsdf::Material;
 use shared::camera::Camera;
 use shared::color::luminance;
 use shared::cwbvh::{WideBvh, WideNode, WIDE_BVH_STACK_SIZE};
-use shared::light::{light_cdf, LightEntry};
+use shared::light::{light_cdf, LightEntry, PUNCTUAL};
+use shared::punctual::PunctualLight;
 use shared::scene::Scene;
 use shared::triangle::{Triangle, TriangleEdges};
 
@@ -66,8 +71,10 @@ pub enum SceneError {
     /// No triangles at all.
     #[error("scene {0} has no triangles")]
     Empty(String),
-    /// No emitting triangle of positive area.
-    #[error("nothing emits light in scene {0}: give some material an emissiveFactor")]
+    /// No emitting triangle of positive area and no punctual light of positive power.
+    #[error(
+        "nothing emits light in scene {0}: give some material an emissiveFactor or add a KHR_lights_punctual light"
+    )]
     NoEmitter(String),
     /// The BVH is deeper than the device traversal stack.
     #[error("the BVH of scene {path} is {depth} levels deep; traversal supports {max}")]
@@ -115,8 +122,11 @@ pub struct SceneData {
     pub embree: OnceLock<Option<Arc<EmbreeScene>>>,
     /// Indexed by `Triangle::material`.
     pub materials: Vec<Material>,
-    /// The light-selection CDF over emissive triangles.
+    /// The light-selection CDF over the emissive triangles and the punctual lights.
     pub lights: Vec<LightEntry>,
+    /// The punctual lights (`KHR_lights_punctual`), in world space; a directional light's disk
+    /// covers the bounding sphere of `bounds`.
+    pub punctual: Vec<PunctualLight>,
     /// The camera of the selected view.
     pub camera: CameraSpec,
     /// Every perspective camera of the file, in scene order (views 1, 2, …).
@@ -136,6 +146,9 @@ pub struct TriangleSoup {
     pub material_of: Vec<u32>,
     /// Indexed by `material_of`.
     pub materials: Vec<Material>,
+    /// The file's punctual lights in world space (a directional light's centre and radius are
+    /// set from the scene's bounds when the scene is built).
+    pub punctual: Vec<PunctualLight>,
     /// The file's perspective cameras, in scene order.
     pub cameras: Vec<CameraSpec>,
     /// Ignored content.
@@ -171,7 +184,24 @@ impl SceneData {
 
     /// The scene over another ray caster.
     pub fn with_caster<R>(&self, caster: R) -> Scene<'_, R> {
-        Scene { caster, triangles: &self.triangles, materials: &self.materials, lights: &self.lights }
+        Scene {
+            caster,
+            triangles: &self.triangles,
+            materials: &self.materials,
+            lights: &self.lights,
+            punctual: self.punctual_lights(),
+        }
+    }
+
+    /// The punctual lights as the kernels bind them: at least one entry (a zeroed one, which no
+    /// light entry refers to, when the scene has none).
+    pub fn punctual_lights(&self) -> &[PunctualLight] {
+        static NONE: [PunctualLight; 1] = [shared::punctual::NONE];
+        if self.punctual.is_empty() {
+            &NONE
+        } else {
+            &self.punctual
+        }
     }
 
     /// The BVH's nodes as the device's [`WideNode`]s (the same bytes).
@@ -252,18 +282,6 @@ impl SceneData {
                 }
             })
             .collect();
-        let power: Vec<f64> = triangles
-            .iter()
-            .map(|t| {
-                let e = Vec3::from_array(soup.materials[t.material as usize].emission);
-                (luminance(e) as f64 * t.area as f64).max(0.0)
-            })
-            .collect();
-        let area: Vec<f32> = triangles.iter().map(|t| t.area).collect();
-        let (lights, pdf) = light_cdf(&power, &area).ok_or_else(|| SceneError::NoEmitter(name.into()))?;
-        for (t, pdf) in triangles.iter_mut().zip(pdf) {
-            t.light_area_pdf = pdf;
-        }
         let mut lo = Vec3::splat(f32::MAX);
         let mut hi = Vec3::splat(f32::MIN);
         for t in &soup.triangles {
@@ -271,6 +289,32 @@ impl SceneData {
                 lo = lo.min(*v);
                 hi = hi.max(*v);
             }
+        }
+        // A directional light's disk covers the bounding sphere of the triangles.
+        let mut punctual = soup.punctual;
+        for light in punctual.iter_mut().filter(|l| l.is_directional()) {
+            light.position = ((lo + hi) * 0.5).to_array();
+            light.radius = (0.5 * (hi - lo).length()).max(1e-3);
+        }
+        // Triangles and punctual lights on one scale of power (`shared::light`).
+        let mut power: Vec<f64> = triangles
+            .iter()
+            .map(|t| {
+                let e = Vec3::from_array(soup.materials[t.material as usize].emission);
+                (luminance(e) as f64 * t.area as f64).max(0.0)
+            })
+            .collect();
+        let mut area: Vec<f32> = triangles.iter().map(|t| t.area).collect();
+        let mut ids: Vec<u32> = (0..triangles.len() as u32).collect();
+        for (i, light) in punctual.iter().enumerate() {
+            power.push(light.selection_power() as f64);
+            area.push(1.0);
+            ids.push(PUNCTUAL | i as u32);
+        }
+        let (lights, pdf) =
+            light_cdf(&power, &area, &ids).ok_or_else(|| SceneError::NoEmitter(name.into()))?;
+        for (t, pdf) in triangles.iter_mut().zip(pdf) {
+            t.light_area_pdf = pdf;
         }
         let camera = soup.cameras.first().copied().unwrap_or_else(|| default_camera(lo, hi));
         Ok(SceneData {
@@ -281,6 +325,7 @@ impl SceneData {
             bvh,
             materials: soup.materials,
             lights,
+            punctual,
             camera,
             views: soup.cameras,
             bounds: (lo, hi),

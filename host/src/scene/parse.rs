@@ -46,6 +46,7 @@ pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, Sc
         serde_json::from_slice(&json).map_err(|e| load(format!("invalid glTF JSON: {e}")))?;
     let mut warnings = Vec::new();
     normalise(&mut value, &mut warnings);
+    light_types(&mut value).map_err(|what| SceneError::Unsupported { path: name.into(), what })?;
     let root: gltf::json::Root =
         serde_json::from_value(value).map_err(|e| load(format!("invalid glTF: {e}")))?;
     validate(&root).map_err(|what| match what.strip_prefix("extensionsRequired") {
@@ -85,6 +86,41 @@ fn normalise(value: &mut Value, warnings: &mut Vec<String>) {
             warnings.push(format!("{n} animation(s) ignored: smlt renders the scene as it stands"));
         }
     }
+}
+
+/// The light types `KHR_lights_punctual` defines.
+const LIGHT_TYPES: [&str; 3] = ["directional", "point", "spot"];
+
+/// A punctual light of a type the extension does not define (a later extension's, say) is
+/// refused by name where a node uses it, and made an unlit point light where none does (the
+/// spec lets an unused object be anything the reader can ignore).
+fn light_types(value: &mut Value) -> Result<(), String> {
+    let used: Vec<u64> = value
+        .get("nodes")
+        .and_then(Value::as_array)
+        .into_iter()
+        .flatten()
+        .filter_map(|n| n.pointer("/extensions/KHR_lights_punctual/light").and_then(Value::as_u64))
+        .collect();
+    let Some(lights) =
+        value.pointer_mut("/extensions/KHR_lights_punctual/lights").and_then(Value::as_array_mut)
+    else {
+        return Ok(());
+    };
+    for (i, light) in lights.iter_mut().enumerate() {
+        let ty = light.get("type").and_then(Value::as_str).unwrap_or_default().to_string();
+        if LIGHT_TYPES.contains(&ty.as_str()) {
+            continue;
+        }
+        if used.contains(&(i as u64)) {
+            return Err(format!(
+                "extensions.KHR_lights_punctual.lights[{i}].type: '{ty}' (smlt reads {})",
+                LIGHT_TYPES.join(", ")
+            ));
+        }
+        *light = serde_json::json!({"type": "point", "intensity": 0.0});
+    }
+    Ok(())
 }
 
 /// The accessors a mesh primitive reads, from the JSON (attributes, morph targets, indices).

@@ -202,7 +202,7 @@ pub fn read_document(
 ) -> Result<TriangleSoup, SceneError> {
     let mut soup = TriangleSoup::default();
     for ext in doc.extensions_used() {
-        if ext != "KHR_materials_emissive_strength" {
+        if !["KHR_materials_emissive_strength", "KHR_lights_punctual"].contains(&ext) {
             soup.warnings.push(format!("extension {ext} is ignored"));
         }
     }
@@ -232,6 +232,10 @@ pub fn read_document(
             });
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if let Some(light) = node.light() {
+            let light = super::lights::read_light(&light, node.index(), world, name, &mut soup.warnings)?;
+            soup.punctual.push(light);
+        }
         if let Some(cam) = node.camera() {
             {
                 match cam.projection() {

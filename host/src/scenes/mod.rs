@@ -3,6 +3,7 @@
 
 pub mod atrium;
 pub mod cornell;
+pub mod lamps;
 pub mod nave;
 pub mod slit;
 pub mod sponza_banner;
@@ -48,7 +49,7 @@ pub fn sun_below_sky(far: Vec3, half: f32, target: Vec3, y: f32) -> [Vec3; 4] {
 }
 
 /// The names of the generated scenes.
-pub const GENERATED: [&str; 5] = ["cornell", "atrium", "nave", "sunblind", "slit"];
+pub const GENERATED: [&str; 6] = ["cornell", "atrium", "nave", "sunblind", "slit", "lamps"];
 
 /// The embedded default scene (what `smlt scene cornell` writes).
 pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/cornell.gltf");
@@ -85,6 +86,7 @@ pub fn generate(name: &str, tessellation: u32) -> Option<String> {
         "nave" => Some(nave::nave(tessellation)),
         "sunblind" => Some(sunblind::sunblind(tessellation)),
         "slit" => Some(slit::slit(tessellation)),
+        "lamps" => Some(lamps::lamps(tessellation)),
         _ => None,
     }
 }
@@ -96,6 +98,9 @@ pub struct GltfBuilder {
     /// Per material: triangle vertices (three per triangle).
     geometry: Vec<Vec<[f32; 3]>>,
     cameras: Vec<(Vec3, Vec3, Vec3, f32)>,
+    /// `KHR_lights_punctual` lights: the light's JSON, its position and the direction it
+    /// shines along (its node's −Z).
+    lights: Vec<(Value, Vec3, Vec3)>,
     /// Every quad is split into n × n quads (1: as given).
     tessellation: u32,
 }
@@ -185,6 +190,40 @@ impl GltfBuilder {
         self.cameras.push((position, target, up, yfov));
     }
 
+    /// Adds a point light (`KHR_lights_punctual`) at `position`: linear colour and intensity
+    /// in candela, as glTF gives them.
+    pub fn point_light(&mut self, position: Vec3, color: [f32; 3], candela: f32) {
+        self.lights.push((
+            json!({"type": "point", "color": color, "intensity": candela}),
+            position,
+            -Vec3::Z,
+        ));
+    }
+
+    /// Adds a spot light at `position` aimed at `target`: colour, intensity in candela, inner
+    /// and outer cone angles in radians.
+    pub fn spot_light(
+        &mut self,
+        position: Vec3,
+        target: Vec3,
+        color: [f32; 3],
+        candela: f32,
+        cone: (f32, f32),
+    ) {
+        let light = json!({
+            "type": "spot", "color": color, "intensity": candela,
+            "spot": {"innerConeAngle": cone.0, "outerConeAngle": cone.1}
+        });
+        self.lights.push((light, position, (target - position).normalize()));
+    }
+
+    /// Adds a directional light whose light travels along `direction`: colour and
+    /// illuminance in lux.
+    pub fn directional_light(&mut self, direction: Vec3, color: [f32; 3], lux: f32) {
+        let light = json!({"type": "directional", "color": color, "intensity": lux});
+        self.lights.push((light, Vec3::ZERO, direction.normalize()));
+    }
+
     /// The document as glTF JSON text.
     pub fn to_json(&self) -> String {
         let mut text = serde_json::to_string_pretty(&self.to_value()).expect("JSON");
@@ -233,6 +272,15 @@ impl GltfBuilder {
             cameras.push(json!({"type": "perspective", "perspective": {"yfov": yfov, "znear": 0.01}}));
             nodes.push(json!({"camera": i, "translation": pos.to_array(), "rotation": q.to_array()}));
         }
+        let mut lights = Vec::new();
+        for (i, (light, position, direction)) in self.lights.iter().enumerate() {
+            let q = Quat::from_rotation_arc(-Vec3::Z, *direction).normalize();
+            lights.push(light.clone());
+            nodes.push(json!({
+                "translation": position.to_array(), "rotation": q.to_array(),
+                "extensions": {"KHR_lights_punctual": {"light": i}}
+            }));
+        }
         let uses_strength = self.materials.iter().any(|m| m.get("extensions").is_some());
         let mut doc = json!({
             "asset": {"version": "2.0", "generator": "smlt scene builder"},
@@ -251,8 +299,19 @@ impl GltfBuilder {
         if !cameras.is_empty() {
             doc["cameras"] = Value::Array(cameras);
         }
+        let mut used = Vec::new();
         if uses_strength {
-            doc["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+            used.push("KHR_materials_emissive_strength");
+        }
+        if !lights.is_empty() {
+            // As Blender's exporter writes them: a reader that ignored the lights would render
+            // a dark scene.
+            used.push("KHR_lights_punctual");
+            doc["extensionsRequired"] = json!(["KHR_lights_punctual"]);
+            doc["extensions"] = json!({"KHR_lights_punctual": {"lights": lights}});
+        }
+        if !used.is_empty() {
+            doc["extensionsUsed"] = json!(used);
         }
         doc
     }
@@ -260,6 +319,7 @@ impl GltfBuilder {
     /// Adds this builder's meshes, materials and cameras to the glTF document `base` (its first
     /// scene gets the new nodes; the new cameras follow the document's own, as further views).
     pub fn merge_into(&self, base: &mut Value) {
+        assert!(self.lights.is_empty(), "merging punctual lights into a document is not implemented");
         let add = self.to_value();
         let count = |doc: &Value, key: &str| doc.get(key).and_then(Value::as_array).map_or(0, Vec::len);
         let offsets: Vec<(&str, usize)> =

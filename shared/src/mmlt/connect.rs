@@ -11,7 +11,7 @@ use glam::Vec3;
 use crate::bsdf::{bsdf_eval, bsdf_pdf};
 use crate::camera::Camera;
 use crate::layout::soa_index;
-use crate::light::emitted;
+use crate::light::{emitted, is_punctual, punctual_index};
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
 
@@ -35,6 +35,14 @@ fn vertex_pdf<R: RayCaster>(
     let w = (to.position() - p).normalize_or_zero();
     let pdf_dir = if from.kind == KIND_CAMERA {
         camera.pdf_direction(w)
+    } else if from.kind == KIND_LIGHT && is_punctual(from.triangle) {
+        let light = scene.punctual[punctual_index(from.triangle) as usize];
+        if light.is_directional() {
+            // Its rays are parallel: the disk's density, projected onto `to`.
+            let cos = if to.kind != KIND_CAMERA { to.normal().dot(w).abs() } else { 1.0 };
+            return light.pdf_origin() * cos;
+        }
+        light.pdf_direction(w)
     } else if from.kind == KIND_LIGHT {
         from.normal().dot(w).max(0.0) / PI
     } else {
@@ -102,6 +110,8 @@ pub fn connect_candidate<R: RayCaster>(
     let mut qs = if s >= 2 { at(1, s - 1) } else { zero };
     let qs_minus = if s >= 2 { at(1, s - 2) } else { zero };
     let mut l = Vec3::ZERO;
+    // The pick probability of the light resampled for s = 1.
+    let mut pick = 0.0f32;
     if s == 0 {
         // The camera subpath found a light by itself.
         let m = scene.materials[pt.material as usize];
@@ -112,17 +122,26 @@ pub fn connect_candidate<R: RayCaster>(
     } else {
         if s == 1 {
             let qs_point = sample_light(
-                scene.lights,
+                &scene,
                 params.light_count,
-                scene.triangles,
-                scene.materials,
                 samples.get(u, DIM_CONNECT_PICK),
                 samples.get2(u, DIM_CONNECT_POINT),
             );
             qs = light_vertex(&qs_point);
+            pick = qs_point.pick;
         }
+        let punctual_light = s == 1 && is_punctual(qs.triangle);
         let qp = qs.position();
-        if t == 1 {
+        if t == 1 && punctual_light {
+            // The camera does not see a delta light.
+            pt = PathVertex {
+                p: cam.position,
+                kind: KIND_CAMERA,
+                n: cam.forward,
+                pdf_fwd: 1.0,
+                ..Default::default()
+            };
+        } else if t == 1 {
             // Connect the light subpath's end to the pinhole.
             let to_cam = cam.origin() - qp;
             let dist2 = to_cam.length_squared();
@@ -150,6 +169,17 @@ pub fn connect_candidate<R: RayCaster>(
                 pdf_fwd: 1.0,
                 ..Default::default()
             };
+        } else if pt.kind == KIND_SURFACE && punctual_light {
+            let pp = pt.position();
+            let inc = scene.punctual[punctual_index(qs.triangle) as usize].incident(pp);
+            // The light's end of the connection: its position, or far along a directional
+            // light's direction (where the shadow ray ends and the reverse densities look from).
+            qs.p = inc.from.to_array();
+            let mp = scene.materials[pt.material as usize];
+            let f_pt = bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), inc.wi);
+            if pick > 0.0 {
+                l = pt.throughput() * f_pt * inc.radiance * (pt.normal().dot(inc.wi).abs() / pick);
+            }
         } else if pt.kind == KIND_SURFACE {
             let pp = pt.position();
             let to_q = qp - pp;
@@ -174,6 +204,7 @@ pub fn connect_candidate<R: RayCaster>(
         }
         // One shadow ray between the end points.
         if l.max_element() > 0.0 {
+            let qp = qs.position();
             let from = spawn(qp, qs.normal(), pt.position() - qp, params.epsilon);
             let target = if pt.kind == KIND_CAMERA {
                 pt.position()
@@ -230,6 +261,15 @@ fn mis_weight<R: RayCaster>(
     };
     let qs_rev = if s > 0 { vertex_pdf(scene, &cam, pt_minus.position(), pt, qs) } else { 0.0 };
     let qs_minus_rev = if s >= 2 { vertex_pdf(scene, &cam, pt.position(), qs, qs_minus) } else { 0.0 };
+    // A path that starts on a punctual light has no s = 0 technique (no ray hits a delta).
+    let light_origin = if s == 1 {
+        qs.triangle
+    } else if s >= 2 {
+        vertices[soa_index(samples.candidate, vertex_slot(1, 0, max_depth), samples.count)].triangle
+    } else {
+        0
+    };
+    let delta_origin = s >= 1 && is_punctual(light_origin);
     let mut sum = 0.0f32;
     // Techniques with more light vertices: walk the camera subpath back to vertex 1.
     let mut ri = 1.0f32;
@@ -261,7 +301,9 @@ fn mis_weight<R: RayCaster>(
             (v.pdf_fwd, v.pdf_rev)
         };
         ri *= density_ratio(rev, fwd);
-        sum += ri;
+        if !(i == 0 && delta_origin) {
+            sum += ri;
+        }
     }
     1.0 / (1.0 + sum)
 }

@@ -21,9 +21,18 @@
 //! **Vertex densities.** Each vertex stores `pdf_fwd`, the area density with which its own
 //! subpath generated it, and `pdf_rev`, the area density with which the other subpath would
 //! have; the balance heuristic is `1 / (1 + Σ_{s'≠s} p_{s'}/p_s)`, the ratios being running
-//! products of `pdf_rev/pdf_fwd` along each subpath (pbrt-v3's `MISWeight`, here without the
-//! delta remapping since no material or light is a delta distribution). The connection changes
-//! `pdf_rev` of the two last vertices of each subpath; they are recomputed in the connection.
+//! products of `pdf_rev/pdf_fwd` along each subpath (pbrt-v3's `MISWeight`). The connection
+//! changes `pdf_rev` of the two last vertices of each subpath; they are recomputed in the
+//! connection.
+//!
+//! **Punctual lights** (`crate::punctual`) are deltas, handled as pbrt-v4's BDPT does: no
+//! camera subpath hits one, so the technique s = 0 has density 0 for a path that starts on one
+//! and is left out of the weight's sum; s = 1 connects to the light's position (or, for a
+//! directional light, along its direction, `PunctualLight::incident`), and t = 1 with s = 1 (the
+//! camera seeing the light itself) carries nothing. A light subpath leaves a point or spot
+//! light by its emission density; a directional light's starts on its disk, and its first
+//! vertex's density is the disk's, projected (no inverse square). No material is a delta
+//! distribution yet.
 
 mod chain;
 mod connect;

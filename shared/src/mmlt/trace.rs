@@ -6,7 +6,7 @@ use glam::{Vec2, Vec3};
 
 use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere};
 use crate::layout::soa_index;
-use crate::light::{sample_light, LightPoint};
+use crate::light::{is_punctual, punctual_index, sample_light, LightPoint};
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
 
@@ -16,7 +16,8 @@ use crate::ray_caster::spawn;
 use super::*;
 
 /// The light subpath's first vertex at the light point `ls` (kind LIGHT, beta = emission /
-/// area density, pdf_fwd = area density).
+/// area density, pdf_fwd = area density; `triangle` holds the light's id,
+/// `LightEntry::light`).
 #[inline]
 pub fn light_vertex(ls: &LightPoint) -> PathVertex {
     let beta = if ls.pdf_area > 0.0 { ls.emission / ls.pdf_area } else { Vec3::ZERO };
@@ -28,14 +29,17 @@ pub fn light_vertex(ls: &LightPoint) -> PathVertex {
         beta: beta.to_array(),
         pdf_fwd: ls.pdf_area,
         pdf_rev: 0.0,
-        triangle: ls.triangle,
+        triangle: ls.light,
         _pad: [0; 2],
     }
 }
 
 /// Extends a subpath from its first vertex (already stored) to at most `max_vertices`
 /// vertices by tracing rays and sampling BSDFs, storing each vertex and the reverse density of
-/// its predecessor. Returns the number of vertices the subpath has.
+/// its predecessor. Returns the number of vertices the subpath has. `pdf_direction` is the
+/// solid-angle density of `direction`, or with `parallel` (a directional light's ray, a delta
+/// direction from a point on its disk) the disk's area density, which the first vertex takes
+/// projected along the ray, without the inverse square.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 fn random_walk<R: RayCaster>(
@@ -48,6 +52,7 @@ fn random_walk<R: RayCaster>(
     direction: Vec3,
     throughput: Vec3,
     pdf_direction: f32,
+    parallel: bool,
     max_vertices: u32,
     vertices: &mut [PathVertex],
 ) -> u32 {
@@ -57,6 +62,7 @@ fn random_walk<R: RayCaster>(
     let mut d = direction;
     let mut beta = throughput;
     let mut pdf_dir = pdf_direction;
+    let mut parallel_segment = parallel;
     let mut origin = if first.kind == KIND_CAMERA {
         first.position()
     } else {
@@ -71,13 +77,19 @@ fn random_walk<R: RayCaster>(
         let p = origin + d * hit.t;
         let n = tri.normal();
         // The forward density converts onto the new vertex, which always lies on a surface.
+        let pdf_fwd = if parallel_segment {
+            pdf_dir * n.dot(d).abs()
+        } else {
+            convert_density(pdf_dir, prev.position(), p, n, true)
+        };
+        parallel_segment = false;
         let v = PathVertex {
             p: p.to_array(),
             kind: KIND_SURFACE,
             n: n.to_array(),
             material: tri.material,
             beta: beta.to_array(),
-            pdf_fwd: convert_density(pdf_dir, prev.position(), p, n, true),
+            pdf_fwd,
             pdf_rev: 0.0,
             triangle: hit.triangle,
             _pad: [0; 2],
@@ -138,29 +150,41 @@ pub fn trace_candidate<R: RayCaster>(
         let d = cam.direction(raster.x, raster.y);
         let pdf = cam.pdf_direction(d);
         camera_vertices =
-            random_walk(params, scene, u, samples, 0, camera_vertex, d, Vec3::ONE, pdf, t, vertices);
+            random_walk(params, scene, u, samples, 0, camera_vertex, d, Vec3::ONE, pdf, false, t, vertices);
     }
     let mut light_vertices = 0;
     if s >= 2 {
         let ls = sample_light(
-            scene.lights,
+            &scene,
             params.light_count,
-            scene.triangles,
-            scene.materials,
             samples.get(u, DIM_LIGHT_PICK),
             samples.get2(u, DIM_LIGHT_POINT),
         );
         let v0 = light_vertex(&ls);
         vertices[soa_index(samples.candidate, vertex_slot(1, 0, max_depth), samples.count)] = v0;
         light_vertices = 1;
-        if v0.pdf_fwd > 0.0 {
+        if v0.pdf_fwd > 0.0 && is_punctual(ls.light) {
+            let light = scene.punctual[punctual_index(ls.light) as usize];
+            let e = light.sample_direction(samples.get2(u, DIM_LIGHT_DIRECTION));
+            let le = light.emitted(e.w);
+            if e.pdf > 0.0 && le.max_element() > 0.0 {
+                // beta = I(w) / (p_A · p_ω) for point and spot (p_A the pick, a delta position);
+                // E / p_A for a directional light (p_A on its disk, a delta direction).
+                let beta = le / (v0.pdf_fwd * e.pdf);
+                let (pdf, parallel) =
+                    if light.is_directional() { (light.pdf_origin(), true) } else { (e.pdf, false) };
+                light_vertices =
+                    random_walk(params, scene, u, samples, 1, v0, e.w, beta, pdf, parallel, s, vertices);
+            }
+        } else if v0.pdf_fwd > 0.0 {
             let n = v0.normal();
             let d = cosine_hemisphere(n, samples.get2(u, DIM_LIGHT_DIRECTION));
             let pdf = n.dot(d).max(0.0) / PI;
             if pdf > 0.0 {
                 // beta = Le · cos / (p_A · p_dir) = Le · π / p_A.
                 let beta = ls.emission * (PI / v0.pdf_fwd);
-                light_vertices = random_walk(params, scene, u, samples, 1, v0, d, beta, pdf, s, vertices);
+                light_vertices =
+                    random_walk(params, scene, u, samples, 1, v0, d, beta, pdf, false, s, vertices);
             }
         }
     }

@@ -32,7 +32,8 @@ pub struct PathVertex {
     pub pdf_fwd: f32,
     /// Area density with which the other subpath would generate it.
     pub pdf_rev: f32,
-    /// Triangle slot the vertex lies on.
+    /// Triangle slot the vertex lies on; a light vertex's light (`LightEntry::light`: a
+    /// triangle, or a punctual light).
     pub triangle: u32,
     /// Padding to 64 bytes.
     pub _pad: [u32; 2],
