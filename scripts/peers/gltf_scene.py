@@ -1,10 +1,12 @@
 """Reads the glTF scenes smlt renders (the subset smlt reads: triangle meshes with node
 transforms, baseColorFactor, emissiveFactor x KHR_materials_emissive_strength, the Phong
-exponent in the material's extras, perspective cameras in depth-first scene order) into plain
-numpy arrays, for the peers' converters."""
+exponent in the material's extras, perspective cameras in depth-first scene order,
+KHR_lights_punctual lights in smlt's units: candela / 683 W/sr, lux / 683 W/m²) into plain numpy
+arrays, for the peers' converters."""
 
 import base64
 import json
+import math
 import os
 from dataclasses import dataclass, field
 
@@ -32,11 +34,25 @@ class Camera:
     aspect: float | None
 
 
+LUMENS_PER_WATT = 683.0  # Blender's PBR_WATTS_TO_LUMENS, as smlt reads glTF's lights
+
+
+@dataclass
+class Light:
+    kind: str  # "point", "spot" or "directional"
+    position: np.ndarray
+    direction: np.ndarray  # the node's -Z: where a spot points, where a sun's light travels
+    intensity: tuple  # W/sr (point, spot) or W/m^2 (directional), rgb
+    inner: float  # spot cone angles, radians
+    outer: float
+
+
 @dataclass
 class Scene:
     materials: list
     triangles: dict = field(default_factory=dict)  # material index -> (n, 3, 3) world-space vertices
     cameras: list = field(default_factory=list)
+    lights: list = field(default_factory=list)
 
 
 def _node_matrix(node):
@@ -105,6 +121,17 @@ def load(path):
             forward /= np.linalg.norm(forward)
             up = up - forward * up.dot(forward)
             scene.cameras.append(Camera(world[:3, 3].copy(), forward, up / np.linalg.norm(up), p["yfov"], p.get("aspectRatio")))
+        light = node.get("extensions", {}).get("KHR_lights_punctual")
+        if light is not None:
+            spec = doc["extensions"]["KHR_lights_punctual"]["lights"][light["light"]]
+            direction = world[:3, :3] @ np.array([0, 0, -1.0])
+            scale = spec.get("intensity", 1.0) / LUMENS_PER_WATT
+            spot = spec.get("spot", {})
+            scene.lights.append(Light(
+                spec["type"], world[:3, 3].copy(), direction / np.linalg.norm(direction),
+                tuple(float(c) * scale for c in spec.get("color", [1, 1, 1])),
+                spot.get("innerConeAngle", 0.0), spot.get("outerConeAngle", math.pi / 4),
+            ))
         if "mesh" in node:
             for prim in doc["meshes"][node["mesh"]]["primitives"]:
                 pos = accessor(prim["attributes"]["POSITION"]).astype(np.float64)
