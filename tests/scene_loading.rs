@@ -320,3 +320,70 @@ fn punctual_lights_outside_the_spec_are_refused_by_path() {
     let dark = load(&lamp_doc(json!({"type": "point", "intensity": 0.0}), json!({})));
     assert!(matches!(dark, Err(SceneError::NoEmitter(_))), "{dark:?}");
 }
+
+/// A document lit by `one_light_doc`'s lamp with one more material, `glass` (its
+/// `extensions`), on a second quad.
+fn glass_doc(extensions: Value) -> Value {
+    let mut b = GltfBuilder::new();
+    let lamp = b.material("lamp", [0.5; 3], [1.0; 3], 1.0, None);
+    let glass = b.glass("glass", [0.9, 0.8, 0.7], 1.5, false);
+    let v = Vec3::new;
+    b.quad(lamp, [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)]);
+    b.quad(glass, [v(0., 0., 1.), v(1., 0., 1.), v(1., 1., 1.), v(0., 1., 1.)]);
+    b.camera(v(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.5);
+    let mut doc: Value = serde_json::from_str(&b.to_json()).unwrap();
+    doc["materials"][1]["extensions"] = extensions;
+    doc["extensionsUsed"] =
+        json!(["KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume"]);
+    doc
+}
+
+/// Glass reads as the spec defines it: the transmission share, the ior (1.5 by default),
+/// thin-walled without a volume or with thicknessFactor 0, solid with a thickness, and the
+/// Beer–Lambert coefficient −ln(attenuationColor) / attenuationDistance. Values outside the
+/// spec's ranges are refused in one line by their glTF path; the special ior 0 is refused as
+/// not modelled.
+#[test]
+fn glass_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
+    let material = |ext: Value| {
+        let scene = load(&glass_doc(ext)).unwrap();
+        scene.materials.iter().copied().find(|m| m.albedo == [0.9, 0.8, 0.7]).expect("the glass")
+    };
+    let thin = material(json!({"KHR_materials_transmission": {"transmissionFactor": 0.75}}));
+    assert_eq!((thin.transmission, thin.ior, thin.thin_walled, thin.attenuation), (0.75, 1.5, 1, [0.0; 3]));
+    let solid = material(json!({
+        "KHR_materials_transmission": {"transmissionFactor": 1.0},
+        "KHR_materials_ior": {"ior": 1.33},
+        "KHR_materials_volume": {"thicknessFactor": 0.1, "attenuationColor": [0.5, 1.0, 0.25], "attenuationDistance": 2.0}
+    }));
+    assert_eq!((solid.transmission, solid.ior, solid.thin_walled), (1.0, 1.33, 0));
+    let expected = [0.5f32.ln() / -2.0, 0.0, 0.25f32.ln() / -2.0];
+    for (a, e) in solid.attenuation.iter().zip(expected) {
+        assert!((a - e).abs() < 1e-6, "{:?} vs {expected:?}", solid.attenuation);
+    }
+    let zero_thickness = material(json!({
+        "KHR_materials_transmission": {"transmissionFactor": 1.0},
+        "KHR_materials_volume": {"thicknessFactor": 0.0}
+    }));
+    assert_eq!(zero_thickness.thin_walled, 1);
+    let t = |f: f64| json!({"KHR_materials_transmission": {"transmissionFactor": f}});
+    for (ext, what) in [
+        (json!({"KHR_materials_ior": {"ior": 0.5}}), "KHR_materials_ior.ior"),
+        (t(1.5), "KHR_materials_transmission.transmissionFactor"),
+        (
+            json!({"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_volume": {"thicknessFactor": 1.0, "attenuationDistance": 0.0}}),
+            "KHR_materials_volume.attenuationDistance",
+        ),
+        (
+            json!({"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_volume": {"thicknessFactor": 1.0, "attenuationColor": [2.0, 1.0, 1.0]}}),
+            "KHR_materials_volume.attenuationColor",
+        ),
+    ] {
+        let err = load(&glass_doc(ext.clone())).err().unwrap_or_else(|| panic!("{ext} loaded"));
+        let line = err.to_string();
+        assert!(matches!(err, SceneError::Malformed { .. }) && line.contains(what), "{ext}: {line}");
+        assert!(line.contains("materials[1]") && !line.contains('\n'), "{line}");
+    }
+    let special = load(&glass_doc(json!({"KHR_materials_ior": {"ior": 0.0}}))).unwrap_err();
+    assert!(matches!(special, SceneError::Unsupported { .. }), "{special}");
+}

@@ -22,6 +22,7 @@ fn the_committed_scenes_are_what_the_generators_write() {
         ("sunblind", include_str!("../scenes/sunblind.gltf")),
         ("slit", include_str!("../scenes/slit.gltf")),
         ("lamps", include_str!("../scenes/lamps.gltf")),
+        ("caustic", include_str!("../scenes/caustic.gltf")),
     ] {
         assert_eq!(
             text,
@@ -56,6 +57,7 @@ fn every_view_is_lit() {
         ("slit", 1),
         ("cornell", 1),
         ("lamps", 1),
+        ("caustic", 1),
     ] {
         let mut scene = load(name, 1);
         scene.select_view(view).unwrap();

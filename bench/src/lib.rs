@@ -93,9 +93,16 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
     let mut rows = Vec::new();
     let mut profiles: Vec<Profile> = Vec::new();
     let mut noises: Vec<(String, u32, Option<f64>)> = Vec::new();
+    let mut blind = Vec::new();
     for (name, view) in &b.scenes {
         let (label, mut scene, scene_hash) = smlt::scenes::open(Some(name), b.tessellation)?;
         scene.select_view(*view)?;
+        for m in &b.methods {
+            if let Some(why) = smlt::render::blind_spot(*m, &scene) {
+                log(&format!("note: {label} v{view}: {why}"));
+                blind.push((label.clone(), *view, m.to_string(), why));
+            }
+        }
         let (reference, noise) = match &b.reference {
             Some(path) => (given_reference(b, path)?, None),
             None => reference_image(b, (&label, *view), &scene, scene_hash, gpu)?,
@@ -111,7 +118,7 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
             }
         }
     }
-    write_results(b, &rows, &noises, &profiles)?;
+    write_results(b, &rows, &noises, &profiles, &blind)?;
     Ok(rows)
 }
 
@@ -293,6 +300,7 @@ fn write_results(
     rows: &[Row],
     noises: &[(String, u32, Option<f64>)],
     profiles: &[Profile],
+    blind: &[(String, u32, String, String)],
 ) -> anyhow::Result<()> {
     let csv = |header: String, lines: Vec<String>| lines.iter().fold(header + "\n", |s, l| s + l + "\n");
     std::fs::write(
@@ -300,7 +308,7 @@ fn write_results(
         csv(CSV_HEADER.to_string(), rows.iter().map(Row::csv).collect()),
     )?;
     let methods: Vec<String> = b.methods.iter().map(Method::to_string).collect();
-    let mut tables = tables::tables(&methods, b.seconds, rows);
+    let mut tables = tables::tables(&methods, b.seconds, rows, blind);
     tables.push_str(&tables::reference_table(b, rows, noises));
     if !profiles.is_empty() {
         std::fs::write(

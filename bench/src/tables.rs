@@ -13,7 +13,14 @@ use smlt::render::{Estimator, Method};
 /// and relMSE, as Markdown: methods down, scene views across, each cell the mean over the
 /// repeats of the final measurements with its 95 % interval; a cell is bold where that method
 /// is best and its interval overlaps no other method's.
-pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
+/// `blind`: (scene, view, method, why) of each method that cannot render some of a view's
+/// light ([`smlt::render::blind_spot`]): its cells are marked † and the reason follows.
+pub fn tables(
+    methods: &[String],
+    seconds: f64,
+    rows: &[Row],
+    blind: &[(String, u32, String, String)],
+) -> String {
     let columns = views(rows);
     let repeats = rows.iter().map(|r| r.repeat + 1).max().unwrap_or(1);
     let mut out = format!(
@@ -84,10 +91,21 @@ pub fn tables(methods: &[String], seconds: f64, rows: &[Row]) -> String {
                     (_, Some(x)) if best[c] == Some(i) => format!(" **{}** |", x.show(*decimals)),
                     (_, Some(x)) => format!(" {} |", x.show(*decimals)),
                 })
+                .zip(&columns)
+                .map(|(cell, (s, v))| {
+                    if blind.iter().any(|(bs, bv, bm, _)| bs == s && bv == v && bm == m) {
+                        cell.replacen(" |", " † |", 1)
+                    } else {
+                        cell
+                    }
+                })
                 .collect();
             let _ = writeln!(out, "| {m} |{text}");
         }
         out.push('\n');
+    }
+    for (s, v, m, why) in blind {
+        let _ = writeln!(out, "† {s} v{v}, {m}: {why}.\n");
     }
     out
 }

@@ -1,8 +1,8 @@
 """Reads the glTF scenes smlt renders (the subset smlt reads: triangle meshes with node
 transforms, baseColorFactor, emissiveFactor x KHR_materials_emissive_strength, the Phong
 exponent in the material's extras, perspective cameras in depth-first scene order,
-KHR_lights_punctual lights in smlt's units: candela / 683 W/sr, lux / 683 W/m²) into plain numpy
-arrays, for the peers' converters."""
+KHR_lights_punctual lights in smlt's units: candela / 683 W/sr, lux / 683 W/m², glass from
+KHR_materials_transmission, _ior and _volume) into plain numpy arrays, for the peers' converters."""
 
 import base64
 import json
@@ -23,6 +23,10 @@ class Material:
     albedo: tuple
     emission: tuple  # radiance (factor x strength)
     phong: float  # 0: Lambertian
+    transmission: float = 0.0  # the smooth dielectric's share; the rest is Lambert
+    ior: float = 1.5
+    thin_walled: bool = True  # no KHR_materials_volume (or thicknessFactor 0)
+    attenuation: tuple = (0.0, 0.0, 0.0)  # Beer-Lambert coefficient inside a solid, 1/m
 
 
 @dataclass
@@ -105,7 +109,16 @@ def load(path):
         strength = m.get("extensions", {}).get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0)
         emission = tuple(float(e) * strength for e in m.get("emissiveFactor", [0, 0, 0]))
         phong = float(m.get("extras", {}).get(PHONG_KEY, 0.0))
-        materials.append(Material(m.get("name", ""), tuple(base), emission, phong))
+        ext = m.get("extensions", {})
+        transmission = float(ext.get("KHR_materials_transmission", {}).get("transmissionFactor", 0.0))
+        ior = float(ext.get("KHR_materials_ior", {}).get("ior", 1.5))
+        volume = ext.get("KHR_materials_volume")
+        thin = volume is None or volume.get("thicknessFactor", 0.0) <= 0
+        attenuation = (0.0, 0.0, 0.0)
+        if not thin and math.isfinite(volume.get("attenuationDistance", math.inf)):
+            colour = volume.get("attenuationColor", [1, 1, 1])
+            attenuation = tuple(-math.log(max(c, 1e-30)) / volume["attenuationDistance"] for c in colour)
+        materials.append(Material(m.get("name", ""), tuple(base), emission, phong, transmission, ior, thin, attenuation))
     scene = Scene(materials)
     root = doc["scenes"][doc.get("scene", 0)]
     stack = [(n, np.eye(4)) for n in reversed(root["nodes"])]

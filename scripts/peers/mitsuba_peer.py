@@ -19,7 +19,11 @@ Phong lobe (any exponent > 0) -> `smlt_phong`, a Python BSDF plugin with smlt's 
 sampling and two-sided semantics (`mitsuba_phong.py`, checked by `check_phong.py`); smlt's max
 depth k (bounces, pbrt's maxdepth) -> Mitsuba's max_depth k + 1; box pixel filter (smlt's pixels
 are box averages); KHR_lights_punctual -> `point`, `spot` (see `light_dict`) and `directional`
-of the same radiometric values.
+of the same radiometric values; glass (KHR_materials_transmission) -> `dielectric` (a solid:
+KHR_materials_volume, with a `homogeneous` purely absorbing interior medium and `volpath` where
+it attenuates) or `thindielectric` (thin-walled: Mitsuba sums the slab's inter-reflections,
+reflecting 2R/(1+R) where glTF's single interface reflects R), tinted by baseColor, blended
+with the Lambert rest by `blendbsdf` where transmissionFactor < 1.
 Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
 libllvm19 unpacked with dpkg-deb -x works), else `scalar_rgb`."""
 
@@ -70,7 +74,20 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
         else:
             # smlt's surfaces scatter on both sides; Mitsuba's `diffuse` alone is black from behind
             bsdf = {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb}}
+        medium = None
+        if mat.transmission > 0:
+            glass = {"type": "thindielectric" if mat.thin_walled else "dielectric",
+                     "int_ior": mat.ior, "ext_ior": 1.0, "specular_transmittance": rgb}
+            if mat.transmission < 1:
+                glass = {"type": "blendbsdf", "weight": mat.transmission, "bsdf_0": bsdf, "bsdf_1": glass}
+            bsdf = glass
+            if not mat.thin_walled and max(mat.attenuation) > 0:
+                medium = {"type": "homogeneous", "albedo": 0.0,
+                          "sigma_t": {"type": "rgb", "value": list(mat.attenuation)}}
+                d["integrator"]["type"] = "volpath"
         shape = {"type": "ply", "filename": path, "face_normals": True, "bsdf": bsdf}
+        if medium is not None:
+            shape["interior"] = medium
         if max(mat.emission) > 0:
             shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(mat.emission)}}
         d[f"mesh{m}"] = shape

@@ -1,8 +1,11 @@
 //! Materials and their BSDFs — only what our scenes use: Lambertian diffuse, a normalised
-//! Phong lobe, and emission (area lights are emissive triangles).
+//! Phong lobe, a smooth dielectric (glTF's transmission: glass, thin-walled or solid), and
+//! emission (area lights are emissive triangles).
 //!
 //! Surfaces are two-sided for scattering: the BSDF works on the side that `wo` lies on, and
-//! `wo` and `wi` on opposite sides give 0 (no transmission). Emission is one-sided, along the
+//! `wo` and `wi` on opposite sides give 0 except through a dielectric's delta refraction,
+//! which only [`bsdf_sample`] produces. A dielectric's sides are told by the geometric normal:
+//! a solid's mesh is closed with its normals outward. Emission is one-sided, along the
 //! triangle's geometric normal (its winding), see [`crate::light`].
 //!
 //! **Normalised Phong** (Lafortune and Willems 1994), exponent n, reflectance ρ:
@@ -22,14 +25,26 @@ use glam::{Vec2, Vec3};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Material {
-    /// Diffuse albedo (Lambert) or Phong reflectance, from glTF `baseColorFactor`.
+    /// Diffuse albedo (Lambert) or Phong reflectance, from glTF `baseColorFactor`; a
+    /// dielectric's transmission tint.
     pub albedo: [f32; 3],
     /// Phong exponent; 0 means Lambertian.
     pub phong_exponent: f32,
     /// Emitted radiance (glTF `emissiveFactor` × `KHR_materials_emissive_strength`).
     pub emission: [f32; 3],
-    /// Padding to 32 bytes.
-    pub _pad: f32,
+    /// The share of the smooth dielectric (`KHR_materials_transmission`'s
+    /// `transmissionFactor`); the rest is Lambertian. 0: no dielectric.
+    pub transmission: f32,
+    /// Beer–Lambert attenuation coefficient inside a solid dielectric, per channel, in 1/m
+    /// (`KHR_materials_volume`: −ln(attenuationColor) / attenuationDistance; 0: clear).
+    pub attenuation: [f32; 3],
+    /// The dielectric's index of refraction (`KHR_materials_ior`, 1.5 by default).
+    pub ior: f32,
+    /// 1 for a thin-walled dielectric (no `KHR_materials_volume`: light passes without
+    /// bending), 0 for the boundary of a solid (the mesh encloses glass).
+    pub thin_walled: u32,
+    /// Padding to 64 bytes.
+    pub _pad: [u32; 3],
 }
 
 impl Material {
@@ -48,8 +63,12 @@ pub struct BsdfSample {
     pub wi: Vec3,
     /// The BSDF value f(wo, wi).
     pub f: Vec3,
-    /// Solid-angle density of `wi`.
+    /// Solid-angle density of `wi`; for a delta lobe, the probability of picking that lobe
+    /// (f · |cos| / pdf is then the sample's weight, as for the others).
     pub pdf: f32,
+    /// Whether `wi` comes from a delta lobe (a dielectric's mirror or refraction), which
+    /// [`bsdf_eval`] and [`bsdf_pdf`] do not see.
+    pub delta: bool,
 }
 
 /// Two unit vectors completing `n` (unit) to an orthonormal basis (Duff et al. 2017).
@@ -126,7 +145,9 @@ pub fn bsdf_eval(m: &Material, n: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
         return Vec3::ZERO;
     }
     let albedo = Vec3::from_array(m.albedo);
-    if m.phong_exponent > 0.0 {
+    if m.transmission > 0.0 {
+        albedo * ((1.0 - m.transmission) / PI)
+    } else if m.phong_exponent > 0.0 {
         let e = m.phong_exponent;
         albedo * ((e + 2.0) / (2.0 * PI) * phong_lobe(e, reflect(wo, ns), wi))
     } else {
@@ -142,7 +163,9 @@ pub fn bsdf_pdf(m: &Material, n: Vec3, wo: Vec3, wi: Vec3) -> f32 {
     if cos_i <= 0.0 || ns.dot(wo) <= 0.0 {
         return 0.0;
     }
-    if m.phong_exponent > 0.0 {
+    if m.transmission > 0.0 {
+        (1.0 - m.transmission) * cos_i / PI
+    } else if m.phong_exponent > 0.0 {
         let e = m.phong_exponent;
         (e + 1.0) / (2.0 * PI) * phong_lobe(e, reflect(wo, ns), wi)
     } else {
@@ -150,12 +173,118 @@ pub fn bsdf_pdf(m: &Material, n: Vec3, wo: Vec3, wi: Vec3) -> f32 {
     }
 }
 
-/// Samples `wi` for `wo` with `u` ∈ [0,1)².
+/// Unpolarised Fresnel reflectance of a smooth dielectric boundary for light at cosine
+/// `cos_i` > 0 from the normal, on the side from which the other side's relative index of
+/// refraction is `eta` (η_other / η_this); 1 beyond the critical angle (total internal
+/// reflection).
 #[inline]
-pub fn bsdf_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2) -> BsdfSample {
+pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
+    let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    0.5 * (rs * rs + rp * rp)
+}
+
+/// The direction refracted from `wo` (unit, on the side of the unit normal `ns`) into the other
+/// side, of relative index `eta` (Snell's law); None beyond the critical angle.
+#[inline]
+pub fn refract(wo: Vec3, ns: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_o = ns.dot(wo);
+    let sin2_t = (1.0 - cos_o * cos_o).max(0.0) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some((-wo / eta + ns * (cos_o / eta - cos_t)).normalize())
+}
+
+/// The relative index of refraction of the side `wo` is not on, seen from `wo`'s side, of a
+/// dielectric with geometric (outward) normal `n`: ior entering, 1/ior leaving; a thin wall
+/// has glass on neither side but reflects as an ior boundary.
+#[inline]
+pub fn relative_ior(m: &Material, n: Vec3, wo: Vec3) -> f32 {
+    if m.thin_walled != 0 || n.dot(wo) >= 0.0 {
+        m.ior
+    } else {
+        1.0 / m.ior
+    }
+}
+
+/// The Beer–Lambert attenuation coefficient along a ray leaving a surface of material `m`
+/// (geometric normal `n`) in direction `d`: the glass's inside a solid dielectric, 0 elsewhere.
+#[inline]
+pub fn medium_coefficient(m: &Material, n: Vec3, d: Vec3) -> Vec3 {
+    if m.transmission > 0.0 && m.thin_walled == 0 && n.dot(d) < 0.0 {
+        Vec3::from_array(m.attenuation)
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// Beer–Lambert transmittance exp(−σ d) over `distance` through a medium of coefficient
+/// `sigma` (per channel).
+#[inline]
+pub fn transmittance(sigma: Vec3, distance: f32) -> Vec3 {
+    Vec3::new((-sigma.x * distance).exp(), (-sigma.y * distance).exp(), (-sigma.z * distance).exp())
+}
+
+/// Samples the smooth dielectric lobes of a transmissive material (mirror with probability
+/// t·F, refraction, or a thin wall's straight passage, with t·(1 − F)) or its Lambertian rest
+/// (1 − t). `radiance`: the sample is for radiance transport (a camera subpath, the path
+/// tracer), where refraction scales radiance by 1/η² (Veach's thesis §5.2); importance
+/// transport (a light subpath) takes the adjoint, which does not.
+#[inline]
+fn dielectric_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
+    let ns = facing(n, wo);
+    let t = m.transmission;
+    if u.x >= t {
+        let wi = cosine_hemisphere(ns, Vec2::new(((u.x - t) / (1.0 - t)).min(1.0 - f32::EPSILON), u.y));
+        let pdf = bsdf_pdf(m, n, wo, wi);
+        if !(pdf > 0.0) {
+            return BsdfSample::default();
+        }
+        return BsdfSample { wi, f: bsdf_eval(m, n, wo, wi), pdf, delta: false };
+    }
+    let v = u.x / t;
+    let eta = relative_ior(m, n, wo);
+    let f_r = fresnel_dielectric(ns.dot(wo), eta);
+    let refracted = if m.thin_walled != 0 { Some(-wo) } else { refract(wo, ns, eta) };
+    match refracted {
+        Some(wi) if v >= f_r => {
+            let cos_i = ns.dot(wi).abs();
+            let pdf = t * (1.0 - f_r);
+            let scale = if radiance && m.thin_walled == 0 { 1.0 / (eta * eta) } else { 1.0 };
+            if !(cos_i > 0.0) {
+                return BsdfSample::default();
+            }
+            BsdfSample { wi, f: Vec3::from_array(m.albedo) * (pdf * scale / cos_i), pdf, delta: true }
+        }
+        _ => {
+            let wi = reflect(wo, ns);
+            let cos_i = ns.dot(wi);
+            let pdf = t * f_r;
+            if !(cos_i > 0.0 && pdf > 0.0) {
+                return BsdfSample::default();
+            }
+            BsdfSample { wi, f: Vec3::splat(pdf / cos_i), pdf, delta: true }
+        }
+    }
+}
+
+/// Samples `wi` for `wo` with `u` ∈ [0,1)²; `radiance` is the transport mode (see
+/// [`dielectric_sample`]; the other lobes are reciprocal).
+#[inline]
+pub fn bsdf_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
     let ns = facing(n, wo);
     if ns.dot(wo) <= 0.0 {
         return BsdfSample::default();
+    }
+    if m.transmission > 0.0 {
+        return dielectric_sample(m, n, wo, u, radiance);
     }
     let wi = if m.phong_exponent > 0.0 {
         // cos α = (1 − u)^(1/(n+1)), computed as exp(x) with 1 − cos α = −expm1(x).
@@ -173,7 +302,7 @@ pub fn bsdf_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2) -> BsdfSample {
     if !(pdf > 0.0) {
         return BsdfSample::default();
     }
-    BsdfSample { wi, f: bsdf_eval(m, n, wo, wi), pdf }
+    BsdfSample { wi, f: bsdf_eval(m, n, wo, wi), pdf, delta: false }
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]

@@ -18,7 +18,7 @@ use spirv_std::num_traits::Float;
 
 use glam::{Vec2, Vec3};
 
-use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample};
+use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample, medium_coefficient, transmittance};
 use crate::camera::Camera;
 use crate::light::emitted;
 use crate::light::{is_punctual, punctual_index, sample_light};
@@ -169,6 +169,10 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
     let mut beta = Vec3::ONE;
     let mut radiance = Vec3::ZERO;
     let mut pdf_bsdf_prev = 0.0f32;
+    // The last bounce was a delta lobe: its emission reached is not light sampling's too.
+    let mut delta_prev = false;
+    // Beer–Lambert coefficient of the medium the current segment runs through.
+    let mut sigma = Vec3::ZERO;
     let mut vertices = 0u32;
     let mut v = 1u32;
     while v <= settings.max_depth + 1 {
@@ -181,11 +185,14 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         let p = origin + d * hit.t;
         let n = tri.normal();
         let wo = -d;
+        if sigma.max_element() > 0.0 {
+            beta *= transmittance(sigma, hit.t);
+        }
         // Emission reached by this segment; after a BSDF sample it competes with the previous
         // vertex's light sample.
         if m.is_emissive() {
             let le = emitted(Vec3::from_array(m.emission), n, wo);
-            let weight = if v == 1 {
+            let weight = if v == 1 || delta_prev {
                 1.0
             } else {
                 let cos_l = n.dot(wo).abs();
@@ -237,7 +244,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
             }
         }
         // Continue by sampling the BSDF.
-        let bs = bsdf_sample(&m, n, wo, Vec2::new(u[3], u[4]));
+        let bs = bsdf_sample(&m, n, wo, Vec2::new(u[3], u[4]), true);
         if !(bs.pdf > 0.0) {
             break;
         }
@@ -250,6 +257,8 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
             beta /= q;
         }
         pdf_bsdf_prev = bs.pdf;
+        delta_prev = bs.delta;
+        sigma = medium_coefficient(&m, n, bs.wi);
         origin = spawn(p, n, bs.wi, settings.epsilon);
         d = bs.wi;
         v += 1;

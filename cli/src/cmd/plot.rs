@@ -25,7 +25,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     // longest time measured.
     let methods = smlt_bench::results::first_seen(rows.iter().map(|r| r.method.clone()));
     let seconds = rows.iter().map(|r| r.seconds).fold(0.0, f64::max).round();
-    std::fs::write(a.out.join("tables.md"), smlt_bench::tables::tables(&methods, seconds, &rows))?;
+    std::fs::write(a.out.join("tables.md"), smlt_bench::tables::tables(&methods, seconds, &rows, &[]))?;
     println!("wrote the plots and tables.md of {} rows to {}", rows.len(), a.out.display());
     Ok(())
 }

@@ -186,6 +186,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         settings.height,
         settings.method()
     );
+    if let Some(line) = render::blind_spot(settings.method(), &scene) {
+        eprintln!("note: {line}");
+    }
     let bar = ProgressBar::new(1000);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed_precise} eta {eta}")

@@ -3,6 +3,7 @@
 //! mergeable [`Accumulation`] that a render, a shard or a thread group produces.
 
 pub mod accumulation;
+pub mod blind_spot;
 pub mod bootstrap;
 pub mod cpu;
 pub mod estimator;
@@ -13,6 +14,7 @@ pub mod renderer;
 pub mod settings;
 
 pub use accumulation::Accumulation;
+pub use blind_spot::blind_spot;
 pub use estimator::Estimator;
 pub use method::{Method, Schedule};
 pub use renderer::{normalisation, render, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};

@@ -185,12 +185,78 @@ fn read_material(m: &gltf::Material, warnings: &mut Vec<String>, name: &str) -> 
             })? as f32;
         }
     }
+    let glass = read_glass(m, &label, warnings, name)?;
     Ok(Material {
         albedo: [base[0], base[1], base[2]],
         phong_exponent: phong,
         emission: [e[0] * strength, e[1] * strength, e[2] * strength],
-        _pad: 0.0,
+        ..glass
     })
+}
+
+/// The dielectric of a material (`KHR_materials_transmission`, `_ior`, `_volume`) as the
+/// spec defines it: the `transmissionFactor` share of the material is a smooth dielectric of
+/// index `ior`, thin-walled without `KHR_materials_volume` (or with thicknessFactor 0), the
+/// boundary of a solid with it, attenuating by Beer–Lambert with −ln(attenuationColor) /
+/// attenuationDistance. Rough transmission is rendered smooth, with a warning.
+fn read_glass(
+    m: &gltf::Material,
+    label: &str,
+    warnings: &mut Vec<String>,
+    name: &str,
+) -> Result<Material, SceneError> {
+    let at = m.index().map(|i| format!("materials[{i}].extensions")).unwrap_or_else(|| label.to_string());
+    let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}.{what}") };
+    let mut glass = Material { ior: 1.5, thin_walled: 1, ..Default::default() };
+    if let Some(ior) = m.ior() {
+        if ior == 0.0 {
+            // The spec's special value: the Fresnel factor is 1 at every angle.
+            return Err(SceneError::Unsupported {
+                path: name.into(),
+                what: format!("{at}.KHR_materials_ior.ior: 0 (a Fresnel factor of 1) is not modelled"),
+            });
+        }
+        if !(ior.is_finite() && ior >= 1.0) {
+            return Err(malformed(format!("KHR_materials_ior.ior: {ior}: must be a finite number ≥ 1")));
+        }
+        glass.ior = ior;
+    }
+    let Some(transmission) = m.transmission() else { return Ok(glass) };
+    let factor = transmission.transmission_factor();
+    if !(0.0..=1.0).contains(&factor) {
+        return Err(malformed(format!(
+            "KHR_materials_transmission.transmissionFactor: {factor}: must lie in [0, 1]"
+        )));
+    }
+    glass.transmission = factor;
+    if factor > 0.0 && m.pbr_metallic_roughness().roughness_factor() > 0.0 {
+        warnings
+            .push(format!("{label}: rough transmission is rendered smooth (roughness is not modelled yet)"));
+    }
+    if transmission.transmission_texture().is_some() {
+        warnings.push(format!("{label}: transmissionTexture is ignored (its factor is used)"));
+    }
+    if let Some(volume) = m.volume() {
+        let distance = volume.attenuation_distance();
+        if !(distance > 0.0) {
+            return Err(malformed(format!(
+                "KHR_materials_volume.attenuationDistance: {distance}: must be > 0"
+            )));
+        }
+        let color = volume.attenuation_color();
+        if !color.iter().all(|c| (0.0..=1.0).contains(c)) {
+            return Err(malformed(format!(
+                "KHR_materials_volume.attenuationColor: {color:?}: each component must lie in [0, 1]"
+            )));
+        }
+        if volume.thickness_factor() > 0.0 {
+            glass.thin_walled = 0;
+            if distance.is_finite() {
+                glass.attenuation = color.map(|c| -c.max(1e-30).ln() / distance);
+            }
+        }
+    }
+    Ok(glass)
 }
 
 /// Reads the triangles, materials and camera of a glTF document.
@@ -202,7 +268,15 @@ pub fn read_document(
 ) -> Result<TriangleSoup, SceneError> {
     let mut soup = TriangleSoup::default();
     for ext in doc.extensions_used() {
-        if !["KHR_materials_emissive_strength", "KHR_lights_punctual"].contains(&ext) {
+        if ![
+            "KHR_materials_emissive_strength",
+            "KHR_lights_punctual",
+            "KHR_materials_transmission",
+            "KHR_materials_ior",
+            "KHR_materials_volume",
+        ]
+        .contains(&ext)
+        {
             soup.warnings.push(format!("extension {ext} is ignored"));
         }
     }

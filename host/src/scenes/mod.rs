@@ -2,6 +2,7 @@
 //! made with it. Generated files are kept in `scenes/`; a test checks they are up to date.
 
 pub mod atrium;
+pub mod caustic;
 pub mod cornell;
 pub mod lamps;
 pub mod nave;
@@ -49,7 +50,7 @@ pub fn sun_below_sky(far: Vec3, half: f32, target: Vec3, y: f32) -> [Vec3; 4] {
 }
 
 /// The names of the generated scenes.
-pub const GENERATED: [&str; 6] = ["cornell", "atrium", "nave", "sunblind", "slit", "lamps"];
+pub const GENERATED: [&str; 7] = ["cornell", "atrium", "nave", "sunblind", "slit", "lamps", "caustic"];
 
 /// The embedded default scene (what `smlt scene cornell` writes).
 pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/cornell.gltf");
@@ -87,6 +88,7 @@ pub fn generate(name: &str, tessellation: u32) -> Option<String> {
         "sunblind" => Some(sunblind::sunblind(tessellation)),
         "slit" => Some(slit::slit(tessellation)),
         "lamps" => Some(lamps::lamps(tessellation)),
+        "caustic" => Some(caustic::caustic(tessellation)),
         _ => None,
     }
 }
@@ -146,6 +148,60 @@ impl GltfBuilder {
         self.materials.push(m);
         self.geometry.push(Vec::new());
         self.materials.len() - 1
+    }
+
+    /// Adds a smooth glass material (`KHR_materials_transmission` 1, `KHR_materials_ior`): its
+    /// transmission tint, index of refraction, and with `solid` a `KHR_materials_volume` of
+    /// thickness 1 (the mesh encloses glass; without it the surface is thin-walled).
+    pub fn glass(&mut self, name: &str, tint: [f32; 3], ior: f32, solid: bool) -> usize {
+        let mut extensions = json!({
+            "KHR_materials_transmission": {"transmissionFactor": 1.0},
+            "KHR_materials_ior": {"ior": ior},
+        });
+        if solid {
+            extensions["KHR_materials_volume"] = json!({"thicknessFactor": 1.0});
+        }
+        self.materials.push(json!({
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [tint[0], tint[1], tint[2], 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.0
+            },
+            "extensions": extensions,
+        }));
+        self.geometry.push(Vec::new());
+        self.materials.len() - 1
+    }
+
+    /// Makes the solid glass `material` ([`GltfBuilder::glass`]) absorb: the colour white
+    /// light takes on after `distance` (m) inside it (`attenuationColor`, `attenuationDistance`).
+    pub fn attenuation(&mut self, material: usize, colour: [f32; 3], distance: f32) {
+        let volume = &mut self.materials[material]["extensions"]["KHR_materials_volume"];
+        assert!(volume.is_object(), "attenuation needs a solid glass material");
+        volume["attenuationColor"] = json!(colour);
+        volume["attenuationDistance"] = json!(distance);
+    }
+
+    /// Adds a sphere with outward normals: centre, radius, and `rings` latitude bands (twice
+    /// as many longitude segments), flat triangles.
+    pub fn sphere(&mut self, material: usize, centre: Vec3, radius: f32, rings: u32) {
+        let point = |i: u32, j: u32| {
+            let theta = std::f32::consts::PI * i as f32 / rings as f32;
+            let phi = std::f32::consts::PI * j as f32 / rings as f32;
+            centre + radius * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin())
+        };
+        let g = &mut self.geometry[material];
+        for i in 0..rings {
+            for j in 0..2 * rings {
+                let (a, b, c, d) = (point(i, j), point(i + 1, j), point(i + 1, j + 1), point(i, j + 1));
+                // Counter-clockwise seen from outside; the poles' degenerate halves are left out.
+                if i > 0 {
+                    g.extend([a, d, c].map(|v| v.to_array()));
+                }
+                if i + 1 < rings {
+                    g.extend([a, c, b].map(|v| v.to_array()));
+                }
+            }
+        }
     }
 
     /// Adds a planar quad a, b, c, d (counter-clockwise seen from the side its normal points to),
@@ -281,7 +337,14 @@ impl GltfBuilder {
                 "extensions": {"KHR_lights_punctual": {"light": i}}
             }));
         }
-        let uses_strength = self.materials.iter().any(|m| m.get("extensions").is_some());
+        let mut material_extensions: Vec<String> = Vec::new();
+        for m in &self.materials {
+            for key in m.get("extensions").and_then(Value::as_object).into_iter().flat_map(|e| e.keys()) {
+                if !material_extensions.contains(key) {
+                    material_extensions.push(key.clone());
+                }
+            }
+        }
         let mut doc = json!({
             "asset": {"version": "2.0", "generator": "smlt scene builder"},
             "scene": 0,
@@ -299,10 +362,7 @@ impl GltfBuilder {
         if !cameras.is_empty() {
             doc["cameras"] = Value::Array(cameras);
         }
-        let mut used = Vec::new();
-        if uses_strength {
-            used.push("KHR_materials_emissive_strength");
-        }
+        let mut used: Vec<&str> = material_extensions.iter().map(String::as_str).collect();
         if !lights.is_empty() {
             // As Blender's exporter writes them: a reader that ignored the lights would render
             // a dark scene.

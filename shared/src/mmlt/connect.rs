@@ -271,6 +271,12 @@ fn mis_weight<R: RayCaster>(
     };
     let delta_origin = s >= 1 && is_punctual(light_origin);
     let mut sum = 0.0f32;
+    // Whether vertex j of a subpath left by a delta lobe. Its neighbours' densities through it
+    // are 0, remapped to 1 (their ratios cancel), and a technique that would connect at it or
+    // its predecessor is impossible: left out of the sum (pbrt-v4's `MISWeight`).
+    let delta = |side: u32, j: u32| {
+        vertices[soa_index(samples.candidate, vertex_slot(side, j, max_depth), samples.count)].delta != 0
+    };
     // Techniques with more light vertices: walk the camera subpath back to vertex 1.
     let mut ri = 1.0f32;
     let mut i = t;
@@ -284,8 +290,15 @@ fn mis_weight<R: RayCaster>(
             let v = vertices[soa_index(samples.candidate, vertex_slot(0, i, max_depth), samples.count)];
             (v.pdf_fwd, v.pdf_rev)
         };
-        ri *= density_ratio(rev, fwd);
-        sum += ri;
+        // The connection's end points pt (i = t − 1) and qs count as non-delta: the
+        // connection evaluates their non-delta lobes, and pt−'s reverse density is recomputed.
+        let here = i + 1 < t && delta(0, i);
+        let before = delta(0, i - 1);
+        let after = i + 2 < t && delta(0, i + 1);
+        ri *= density_ratio(if after { 1.0 } else { rev }, if before { 1.0 } else { fwd });
+        if !(here || before) {
+            sum += ri;
+        }
     }
     // Techniques with fewer light vertices: walk the light subpath back to vertex 0.
     ri = 1.0;
@@ -300,8 +313,13 @@ fn mis_weight<R: RayCaster>(
             let v = vertices[soa_index(samples.candidate, vertex_slot(1, i, max_depth), samples.count)];
             (v.pdf_fwd, v.pdf_rev)
         };
-        ri *= density_ratio(rev, fwd);
-        if !(i == 0 && delta_origin) {
+        let stored = s >= 2;
+        let here = stored && i + 1 < s && delta(1, i);
+        let before_bsdf = stored && i > 0 && delta(1, i - 1);
+        let after = stored && i + 2 < s && delta(1, i + 1);
+        ri *= density_ratio(if after { 1.0 } else { rev }, if before_bsdf { 1.0 } else { fwd });
+        let before = if i > 0 { before_bsdf } else { delta_origin };
+        if !(here || before) {
             sum += ri;
         }
     }

@@ -4,7 +4,7 @@
 use core::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
-use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere};
+use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere, medium_coefficient, transmittance};
 use crate::layout::soa_index;
 use crate::light::{is_punctual, punctual_index, sample_light, LightPoint};
 use crate::ray_caster::RayCaster;
@@ -30,7 +30,8 @@ pub fn light_vertex(ls: &LightPoint) -> PathVertex {
         pdf_fwd: ls.pdf_area,
         pdf_rev: 0.0,
         triangle: ls.light,
-        _pad: [0; 2],
+        delta: 0,
+        _pad: 0,
     }
 }
 
@@ -63,6 +64,8 @@ fn random_walk<R: RayCaster>(
     let mut beta = throughput;
     let mut pdf_dir = pdf_direction;
     let mut parallel_segment = parallel;
+    // Beer–Lambert coefficient of the medium the current segment runs through.
+    let mut sigma = Vec3::ZERO;
     let mut origin = if first.kind == KIND_CAMERA {
         first.position()
     } else {
@@ -76,6 +79,9 @@ fn random_walk<R: RayCaster>(
         let tri = scene.triangles[hit.triangle as usize];
         let p = origin + d * hit.t;
         let n = tri.normal();
+        if sigma.max_element() > 0.0 {
+            beta *= transmittance(sigma, hit.t);
+        }
         // The forward density converts onto the new vertex, which always lies on a surface.
         let pdf_fwd = if parallel_segment {
             pdf_dir * n.dot(d).abs()
@@ -83,7 +89,7 @@ fn random_walk<R: RayCaster>(
             convert_density(pdf_dir, prev.position(), p, n, true)
         };
         parallel_segment = false;
-        let v = PathVertex {
+        let mut v = PathVertex {
             p: p.to_array(),
             kind: KIND_SURFACE,
             n: n.to_array(),
@@ -92,9 +98,11 @@ fn random_walk<R: RayCaster>(
             pdf_fwd,
             pdf_rev: 0.0,
             triangle: hit.triangle,
-            _pad: [0; 2],
+            delta: 0,
+            _pad: 0,
         };
-        vertices[soa_index(samples.candidate, vertex_slot(side, count, max_depth), samples.count)] = v;
+        let slot = soa_index(samples.candidate, vertex_slot(side, count, max_depth), samples.count);
+        vertices[slot] = v;
         count += 1;
         if count >= max_vertices {
             break;
@@ -102,18 +110,26 @@ fn random_walk<R: RayCaster>(
         let m = scene.materials[tri.material as usize];
         let wo = -d;
         let bounce = count - 2;
-        let bs = bsdf_sample(&m, n, wo, samples.get2(u, bounce_dimension(side, bounce, max_depth)));
+        let bs =
+            bsdf_sample(&m, n, wo, samples.get2(u, bounce_dimension(side, bounce, max_depth)), side == 0);
         if !(bs.pdf > 0.0) {
             break;
         }
         beta *= bs.f * (bs.wi.dot(n).abs() / bs.pdf);
+        // A delta lobe: no other technique generates its neighbours through it (their
+        // densities from it are 0, remapped in the weights as pbrt-v4's BDPT does).
+        if bs.delta {
+            v.delta = 1;
+            vertices[slot] = v;
+        }
         // The density of the reverse walk arriving at the predecessor.
-        let pdf_back = bsdf_pdf(&m, n, bs.wi, wo);
+        let pdf_back = if bs.delta { 0.0 } else { bsdf_pdf(&m, n, bs.wi, wo) };
         prev.pdf_rev = convert_density(pdf_back, p, prev.position(), prev.normal(), prev.kind != KIND_CAMERA);
         vertices[soa_index(samples.candidate, vertex_slot(side, count - 2, max_depth), samples.count)] = prev;
         prev = v;
         d = bs.wi;
-        pdf_dir = bs.pdf;
+        pdf_dir = if bs.delta { 0.0 } else { bs.pdf };
+        sigma = medium_coefficient(&m, n, d);
         origin = spawn(p, n, d, params.epsilon);
     }
     count

@@ -35,8 +35,12 @@ pub struct PathVertex {
     /// Triangle slot the vertex lies on; a light vertex's light (`LightEntry::light`: a
     /// triangle, or a punctual light).
     pub triangle: u32,
+    /// 1 where the subpath left this vertex by a delta lobe (a dielectric's mirror or
+    /// refraction): no connection is made to it and its neighbours' densities through it are
+    /// remapped in the weights.
+    pub delta: u32,
     /// Padding to 64 bytes.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 impl PathVertex {

@@ -1,0 +1,67 @@
+//! The light a method cannot render in a scene. The path tracer and the path estimator
+//! build every path from the camera, joining it to a light only by next-event estimation (a
+//! shadow ray from a diffuse vertex) or by hitting an emitter: a path that reaches a punctual
+//! light (a delta position or direction, which no ray hits) through a smooth dielectric (a
+//! delta lobe, which no shadow ray passes) — L S+ D … E, a lamp's caustic through glass — has
+//! no technique among theirs, so its light is missing from their images however long they
+//! run. The multiplexed estimator's light subpaths start at the lamp and render it.
+
+use super::{Estimator, Method};
+use crate::scene::SceneData;
+
+/// One line saying what `method` leaves out of `scene`'s image, or None when it renders
+/// every path the scene has.
+pub fn blind_spot(method: Method, scene: &SceneData) -> Option<String> {
+    let camera_only =
+        matches!(method, Method::PathTracer | Method::Metropolis { estimator: Estimator::Path, .. });
+    let glass = scene.triangles.iter().any(|t| scene.materials[t.material as usize].transmission > 0.0);
+    (camera_only && glass && !scene.punctual.is_empty()).then(|| {
+        format!(
+            "{method} cannot render the punctual lamps' light through smooth glass (caustics, \
+             L S+ D E paths): it is missing from this image; naive, s<d> and rc<l> render it"
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::scenes::{generate, GltfBuilder};
+
+    fn scene(text: &str) -> SceneData {
+        SceneData::from_slice(text.as_bytes(), "test").unwrap()
+    }
+
+    /// Told exactly where a punctual lamp and glass meet, for the camera-only methods.
+    #[test]
+    fn camera_only_methods_are_told_of_a_lamp_through_glass() {
+        let caustic = scene(&generate("caustic", 1).unwrap());
+        for (name, told) in [
+            ("pt", true),
+            ("path-naive", true),
+            ("path-s3", true),
+            ("naive", false),
+            ("s3", false),
+            ("rc4", false),
+        ] {
+            let line = blind_spot(name.parse().unwrap(), &caustic);
+            assert_eq!(line.is_some(), told, "{name}: {line:?}");
+            if let Some(line) = line {
+                assert!(line.starts_with(name) && !line.contains('\n'), "{line}");
+            }
+        }
+        // Lamps without glass, and glass under an area lamp: every path has a technique.
+        let lamps = scene(&generate("lamps", 1).unwrap());
+        assert_eq!(blind_spot(Method::PathTracer, &lamps), None);
+        let mut b = GltfBuilder::new();
+        let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 1.0, None);
+        let glass = b.glass("glass", [1.0; 3], 1.5, true);
+        let v = Vec3::new;
+        b.quad(lamp, [v(-1., 2., -1.), v(1., 2., -1.), v(1., 2., 1.), v(-1., 2., 1.)]);
+        b.sphere(glass, Vec3::ZERO, 0.5, 6);
+        b.camera(v(0., 0., 3.), Vec3::ZERO, Vec3::Y, 1.0);
+        assert_eq!(blind_spot(Method::PathTracer, &scene(&b.to_json())), None);
+    }
+}
