@@ -82,8 +82,10 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
                 glass = {"type": "blendbsdf", "weight": mat.transmission, "bsdf_0": bsdf, "bsdf_1": glass}
             bsdf = glass
             if not mat.thin_walled and max(mat.attenuation) > 0:
-                medium = {"type": "homogeneous", "albedo": 0.0,
-                          "sigma_t": {"type": "rgb", "value": list(mat.attenuation)}}
+                # an rgb value must lie in [0, 1]: the medium's `scale` carries the magnitude
+                top = max(mat.attenuation)
+                medium = {"type": "homogeneous", "albedo": 0.0, "scale": top,
+                          "sigma_t": {"type": "rgb", "value": [c / top for c in mat.attenuation]}}
                 d["integrator"]["type"] = "volpath"
         shape = {"type": "ply", "filename": path, "face_normals": True, "bsdf": bsdf}
         if medium is not None:
