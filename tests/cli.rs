@@ -163,6 +163,24 @@ fn bad_input_gets_one_line_and_no_output() {
         (vec!["render".into(), "--time".into(), "0".into()], "time"),
         (vec!["render".into(), "--out".into(), "/nonexistent-dir/x.exr".into()], "/nonexistent-dir/x.exr"),
         (vec!["render".into(), "--out".into(), dir.join("x.png").display().to_string()], ".exr"),
+        (
+            vec!["render".into(), "--environment".into(), dir.join("sky.exr").display().to_string()],
+            "no such file",
+        ),
+        (vec!["render".into(), "--environment".into(), garbage.display().to_string()], "reads .exr and .hdr"),
+        (vec!["render".into(), "--environment".into(), "1,2".into()], "one value or three"),
+        (vec!["render".into(), "--environment".into(), "-1".into()], "≥ 0"),
+        (
+            vec![
+                "render".into(),
+                "--environment".into(),
+                "1".into(),
+                "--environment-strength".into(),
+                "nan".into(),
+            ],
+            "strength",
+        ),
+        (vec!["render".into(), "--environment-strength".into(), "2".into()], "--environment"),
     ];
     for (mut args, needle) in cases {
         if !args.iter().any(|a| a == "--out") {
@@ -805,6 +823,56 @@ fn malformed_scenes_are_refused_by_name() {
         assert!(stderr.contains("are no multiple of 3: the last 2 form no triangle"), "{stderr}");
     } else {
         assert_ne!(std::env::var("CI").as_deref(), Ok("true"), "CI=true and no {}", shared.display());
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--environment` lights a scene that has no light of its own: an image (here an EXR sky
+/// written by the test, turned by --environment-rotation) or a constant colour; the summary
+/// says what lit it.
+#[test]
+fn an_environment_lights_a_scene_without_lights() {
+    let dir = temp_dir("environment");
+    let scene = dir.join("plate.gltf");
+    let mut b = smlt::scenes::GltfBuilder::new();
+    let grey = b.material("grey", [0.5; 3], [0.0; 3], 1.0, None);
+    let v = glam::Vec3::new;
+    b.quad(grey, [v(-1., 0., 1.), v(1., 0., 1.), v(1., 0., -1.), v(-1., 0., -1.)]);
+    b.camera(v(0.0, 1.5, 2.0), v(0.0, 0.0, 0.0), glam::Vec3::Y, 50f32.to_radians());
+    std::fs::write(&scene, b.to_json()).unwrap();
+    let scene_s = scene.to_str().unwrap();
+    let (ok, _, stderr) =
+        smlt(&["render", scene_s, "--device", "cpu", "--out", dir.join("a.exr").to_str().unwrap()]);
+    assert!(!ok && stderr.contains("--environment"), "a scene without lights is refused: {stderr}");
+    let sky = dir.join("sky.exr");
+    exr::prelude::write_rgb_file(&sky, 16, 8, |_, y| if y < 4 { (0.4, 0.6, 1.0) } else { (0.1, 0.1, 0.1) })
+        .unwrap();
+    for env in [sky.to_str().unwrap(), "0.5,0.6,0.8"] {
+        let out = dir.join("lit.exr");
+        let (ok, stdout, stderr) = smlt(&[
+            "render",
+            scene_s,
+            "--device",
+            "cpu",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--mutations-per-pixel",
+            "16",
+            "--environment",
+            env,
+            "--environment-strength",
+            "2",
+            "--environment-rotation",
+            "-30",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{env}: {stderr}");
+        assert!(stdout.contains("lit by environment") && stdout.contains(env), "{stdout}");
+        let (_, _, rgb) = smlt::output::read_exr(&out).unwrap();
+        assert!(rgb.iter().all(|v| v.is_finite()) && rgb.iter().sum::<f32>() > 0.0, "{env}: lit");
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

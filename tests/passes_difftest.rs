@@ -420,6 +420,19 @@ fn glass_passes_agree_on_device_and_cpu() {
     }
 }
 
+/// Under the environment (`sky_scene`: a sky with a sun, a glass ball, a triangle lamp): camera
+/// subpaths that end on the environment, light subpaths that leave its disks, connections to
+/// it and their weights, and the path estimator's escapes.
+#[test]
+fn environment_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("environment_passes_agree_on_device_and_cpu") {
+        let scene = common::scenes::sky_scene();
+        difftest_scene(gpu.clone(), Schedule::Tree(1), render::Estimator::Multiplexed, &scene);
+        difftest_scene(gpu.clone(), Schedule::Tree(3), render::Estimator::Multiplexed, &scene);
+        difftest_scene(gpu, Schedule::Tree(1), render::Estimator::Path, &scene);
+    }
+}
+
 #[test]
 fn reject_chain_eight_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("reject_chain_eight_passes_agree_on_device_and_cpu") {
@@ -554,8 +567,8 @@ fn every_pass_binds_what_its_kernel_declares() {
 }
 
 /// The path tracer's pass (`--method pt`, and `smlt reference`): one round of 4 samples a
-/// pixel on the device and on the CPU backend, pixel by pixel, on the default scene and on
-/// Sibenik-like geometry (the nave): at most 0.5 % of pixel values differ beyond 1e-3 relative
+/// pixel on the device and on the CPU backend, pixel by pixel, on the default scene, on
+/// Sibenik-like geometry (the nave) and under the environment (`sky_scene`): at most 0.5 % of pixel values differ beyond 1e-3 relative
 /// (a path that grazes an edge may take the other branch).
 #[test]
 fn the_path_tracer_agrees_on_device_and_cpu() {
@@ -566,6 +579,7 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
             SceneData::from_slice(include_bytes!("../scenes/cornell.gltf"), "cornell").expect("cornell"),
         ),
         ("nave", SceneData::from_slice(include_bytes!("../scenes/nave.gltf"), "nave").expect("nave")),
+        ("sky", common::scenes::sky_scene()),
     ] {
         let s = Settings {
             width: 24,

@@ -20,9 +20,15 @@ fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {
-            // One line naming the problem (clap's first line), not clap's usage epilogue.
+            // One line naming the problem (clap's first line, with the argument it lists on
+            // the next where it ends in a colon), not clap's usage epilogue.
             let text = e.to_string();
-            eprintln!("{}", text.lines().next().unwrap_or("error: invalid arguments"));
+            let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+            let first = lines.next().unwrap_or("error: invalid arguments");
+            match lines.next().filter(|_| first.ends_with(':')) {
+                Some(named) => eprintln!("{first} {named}"),
+                None => eprintln!("{first}"),
+            }
             return ExitCode::from(2);
         }
         Err(e) => {

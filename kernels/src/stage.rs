@@ -93,6 +93,8 @@ pub const SCENE_BINDINGS: &[Binding] = &[
     scene_binding(2, "materials", core::any::type_name::<shared::bsdf::Material>),
     scene_binding(3, "lights", core::any::type_name::<shared::light::LightEntry>),
     scene_binding(4, "punctual", core::any::type_name::<shared::punctual::PunctualLight>),
+    scene_binding(5, "environment", core::any::type_name::<shared::environment::Environment>),
+    scene_binding(6, "environment_map", core::any::type_name::<f32>),
 ];
 
 const fn scene_binding(binding: u32, name: &'static str, element: fn() -> &'static str) -> Binding {
@@ -281,6 +283,8 @@ macro_rules! stage {
             #[spirv(storage_buffer, descriptor_set = 1, binding = 2)] materials: &[shared::bsdf::Material],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 3)] lights: &[shared::light::LightEntry],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 4)] punctual: &[shared::punctual::PunctualLight],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 5)] environment: &[shared::environment::Environment],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 6)] environment_map: &[f32],
         ], [
             scene: shared::scene::Scene {
                 caster: shared::cwbvh::WideBvh { nodes, triangles },
@@ -288,6 +292,8 @@ macro_rules! stage {
                 materials,
                 lights,
                 punctual,
+                environment: &environment[0],
+                environment_map,
             },
         ]);
         impl<$lt, $r: shared::ray_caster::RayCaster + Copy> $io<$lt, $r> {

@@ -23,7 +23,8 @@ of the same radiometric values; glass (KHR_materials_transmission) -> `dielectri
 KHR_materials_volume, with a `homogeneous` purely absorbing interior medium and `volpath` where
 it attenuates) or `thindielectric` (thin-walled: Mitsuba sums the slab's inter-reflections,
 reflecting 2R/(1+R) where glTF's single interface reflects R), tinted by baseColor, blended
-with the Lambert rest by `blendbsdf` where transmissionFactor < 1.
+with the Lambert rest by `blendbsdf` where transmissionFactor < 1; `--environment` as smlt's
+-> `envmap` or `constant` (`environment_dict`).
 Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
 libllvm19 unpacked with dpkg-deb -x works), else `scalar_rgb`."""
 
@@ -98,6 +99,23 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
     return d
 
 
+def environment_dict(mi, source, strength, rotation):
+    """smlt's `--environment` as Mitsuba's emitter: a constant colour -> `constant`; a lat-long
+    image -> `envmap` of the same file, `scale` the strength, turned about +Y by `rotation`
+    degrees (smlt maps directions to the image as `envmap` does). Mitsuba looks its texels up
+    bilinearly where smlt takes the nearest: the two agree on a map that is smooth at its texels'
+    scale."""
+    try:
+        values = [float(v) for v in source.split(",")]
+    except ValueError:
+        values = None
+    if values is not None:
+        rgb = values * 3 if len(values) == 1 else values
+        return {"type": "constant", "radiance": {"type": "rgb", "value": [c * strength for c in rgb]}}
+    return {"type": "envmap", "filename": os.path.abspath(source), "scale": strength,
+            "to_world": mi.ScalarTransform4f().rotate(axis=[0, 1, 0], angle=rotation)}
+
+
 def light_dict(mi, light):
     """A glTF punctual light as Mitsuba's emitter of the same radiometric value. Mitsuba's spot
     ramps linearly in angle between beam_width and cutoff_angle, glTF's as the square of a ramp
@@ -128,6 +146,9 @@ def main():
     ap.add_argument("--chunk", type=int, default=4, help="samples per pixel per render call")
     ap.add_argument("--converged", type=int, default=0, help="check: render SPP samples once and compare")
     ap.add_argument("--variant", default=None)
+    ap.add_argument("--environment", default=None, help="as smlt's: FILE.exr|.hdr or R,G,B")
+    ap.add_argument("--environment-strength", type=float, default=1.0)
+    ap.add_argument("--environment-rotation", type=float, default=0.0, help="degrees about +Y")
     a = ap.parse_args()
 
     import mitsuba as mi
@@ -147,7 +168,10 @@ def main():
     if reference.shape[:2] != (a.height, a.width):
         raise SystemExit(f"the reference is {reference.shape[1]}x{reference.shape[0]}, not {a.width}x{a.height}")
     with tempfile.TemporaryDirectory() as folder:
-        m_scene = mi.load_dict(scene_dict(mi, scene, a.view, a.width, a.height, a.max_depth, folder))
+        d = scene_dict(mi, scene, a.view, a.width, a.height, a.max_depth, folder)
+        if a.environment:
+            d["environment"] = environment_dict(mi, a.environment, a.environment_strength, a.environment_rotation)
+        m_scene = mi.load_dict(d)
         pixels = a.width * a.height
         if a.converged:
             start = time.time()

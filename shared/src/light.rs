@@ -1,11 +1,12 @@
-//! The scene's lights, and picking one: emissive triangles (area lights) and punctual lights
-//! (`crate::punctual`: point, spot, directional). A light is picked in proportion to its power
+//! The scene's lights, and picking one: emissive triangles (area lights), punctual lights
+//! (`crate::punctual`: point, spot, directional) and the environment light
+//! (`crate::environment`). A light is picked in proportion to its power
 //! (a CDF over every emitter is uploaded; a triangle's power is its area × the luminance of its
 //! emission, a punctual light's [`crate::punctual::PunctualLight::selection_power`], the same
 //! scale), then a point on it: a uniform point on a triangle, whose area density is therefore
 //! `pick(triangle) / area(triangle)`, which each triangle carries
 //! ([`crate::triangle::Triangle`]); a punctual light's origin (its position, or a point on a
-//! directional light's disk).
+//! directional light's disk); a direction towards the environment.
 //!
 //! A triangle's emission is one-sided, along its geometric normal (counter-clockwise winding),
 //! and directions leaving it are sampled cosine-weighted about that normal.
@@ -21,10 +22,19 @@ use crate::scene::Scene;
 /// the scene's punctual lights); without it the entry is a triangle's index.
 pub const PUNCTUAL: u32 = 1 << 31;
 
+/// The [`LightEntry::light`] of the environment light (no triangle index reaches it).
+pub const ENVIRONMENT: u32 = PUNCTUAL - 1;
+
 /// Whether the light id `light` ([`LightEntry::light`]) is a punctual light's.
 #[inline]
 pub fn is_punctual(light: u32) -> bool {
     light & PUNCTUAL != 0
+}
+
+/// Whether the light id `light` ([`LightEntry::light`]) is the environment's.
+#[inline]
+pub fn is_environment(light: u32) -> bool {
+    light == ENVIRONMENT
 }
 
 /// The index among the scene's punctual lights of the punctual light id `light`.
@@ -37,9 +47,11 @@ pub fn punctual_index(light: u32) -> u32 {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LightPoint {
     /// The point: on an emissive triangle, a point or spot light's position, or a point on a
-    /// directional light's disk.
+    /// directional light's disk (for the environment, the centre of the scene's bounding
+    /// sphere: its light comes from a direction, not a point).
     pub p: Vec3,
-    /// A triangle's geometric normal there; a spot's axis or a directional light's direction.
+    /// A triangle's geometric normal there; a spot's axis or a directional light's direction;
+    /// the direction the environment's light travels (−wi).
     pub n: Vec3,
     /// Which light ([`LightEntry::light`]).
     pub light: u32,
@@ -47,12 +59,13 @@ pub struct LightPoint {
     pub material: u32,
     /// The area density the point was sampled with: the pick probability times the density
     /// of the point on the light (`Triangle::light_area_pdf` for a triangle; the pick for a
-    /// point or spot light, a delta; pick / (π r²) on a directional light's disk).
+    /// point or spot light, a delta; pick / (π r²) on a directional light's disk). For the
+    /// environment, the pick times the solid-angle density of the direction.
     pub pdf_area: f32,
     /// The probability with which the light was picked.
     pub pick: f32,
     /// A triangle's emitted radiance (`Material::emission`); a punctual light's intensity or
-    /// irradiance (`PunctualLight::intensity`).
+    /// irradiance (`PunctualLight::intensity`); the environment's radiance from the direction.
     pub emission: Vec3,
 }
 
@@ -63,6 +76,18 @@ pub fn sample_light<R>(scene: &Scene<R>, light_count: u32, u_pick: f32, u_point:
     let entry = scene.lights[k as usize];
     let below = if k > 0 { scene.lights[k as usize - 1].cdf } else { 0.0 };
     let pick = entry.cdf - below;
+    if is_environment(entry.light) {
+        let e = scene.environment.sample(scene.environment_map, u_point);
+        return LightPoint {
+            p: Vec3::from_array(scene.environment.centre),
+            n: -e.wi,
+            light: entry.light,
+            material: 0,
+            pdf_area: pick * e.pdf,
+            pick,
+            emission: e.radiance,
+        };
+    }
     if is_punctual(entry.light) {
         let light = scene.punctual[punctual_index(entry.light) as usize];
         let (p, pdf_origin) = light.sample_origin(u_point);

@@ -21,7 +21,7 @@ use glam::{Vec2, Vec3};
 use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample, medium_coefficient, transmittance};
 use crate::camera::Camera;
 use crate::light::emitted;
-use crate::light::{is_punctual, punctual_index, sample_light};
+use crate::light::{is_environment, is_punctual, punctual_index, sample_light};
 use crate::ray_caster::spawn;
 use crate::ray_caster::RayCaster;
 use crate::rng::{self, RngKey};
@@ -178,6 +178,19 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
     while v <= settings.max_depth + 1 {
         let hit = scene.caster.closest_hit(origin, d, 0.0, NO_HIT);
         if !hit.found() {
+            // The environment, reached by this segment (not from inside a medium, whose
+            // transmittance over an unbounded distance is 0); after a BSDF sample it competes
+            // with the previous vertex's light sample.
+            let env = scene.environment;
+            if env.is_present() && !(sigma.max_element() > 0.0) {
+                let le = env.radiance(scene.environment_map, d);
+                let weight = if v == 1 || delta_prev {
+                    1.0
+                } else {
+                    power_heuristic(pdf_bsdf_prev, env.pick * env.pdf(scene.environment_map, d))
+                };
+                radiance += beta * le * weight;
+            }
             break;
         }
         let tri = scene.triangles[hit.triangle as usize];
@@ -208,7 +221,19 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         vertices = v;
         // Next-event estimation: one light sample from this vertex.
         let ls = sample_light(&scene, settings.light_count, u[0], Vec2::new(u[1], u[2]));
-        if is_punctual(ls.light) {
+        if is_environment(ls.light) {
+            // A direction towards the environment: a shadow ray out of the scene's bounds.
+            let wi = -ls.n;
+            let f = bsdf_eval(&m, n, wo, wi);
+            if ls.emission.max_element() > 0.0 && f.max_element() > 0.0 && ls.pdf_area > 0.0 {
+                let from = spawn(p, n, wi, settings.epsilon);
+                let reach = (scene.environment.beyond(from, wi) - from).length();
+                if !scene.caster.occluded(from, wi, 0.0, reach) {
+                    let weight = power_heuristic(ls.pdf_area, bsdf_pdf(&m, n, wo, wi));
+                    radiance += beta * f * ls.emission * (n.dot(wi).abs() * weight / ls.pdf_area);
+                }
+            }
+        } else if is_punctual(ls.light) {
             // A delta light: no BSDF sample finds it, so the light sample takes it all.
             let inc = scene.punctual[punctual_index(ls.light) as usize].incident(p);
             let f = bsdf_eval(&m, n, wo, inc.wi);

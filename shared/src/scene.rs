@@ -1,8 +1,9 @@
 //! The scene as the kernels see it: a ray caster over the triangles, and the triangles,
-//! materials, punctual lights and light-selection CDF that shading and light sampling read (slices of device
-//! buffers on the device, of host buffers on the CPU backend).
+//! materials, punctual lights, environment light and light-selection CDF that shading and light
+//! sampling read (slices of device buffers on the device, of host buffers on the CPU backend).
 
 use crate::bsdf::Material;
+use crate::environment::Environment;
 use crate::light::LightEntry;
 use crate::punctual::PunctualLight;
 use crate::triangle::Triangle;
@@ -21,4 +22,8 @@ pub struct Scene<'a, R> {
     /// The punctual lights (`LightEntry::light` indexes them; at least one entry, zeroed when
     /// the scene has none, as a device buffer cannot be empty).
     pub punctual: &'a [PunctualLight],
+    /// The environment light (`crate::environment::NONE` when the scene has none).
+    pub environment: &'a Environment,
+    /// Its texels and CDFs (at least one value, as a device buffer cannot be empty).
+    pub environment_map: &'a [f32],
 }

@@ -92,3 +92,85 @@ pub fn glass_caustic(area: bool) -> SceneData {
     doc["materials"][mixed]["extensions"]["KHR_materials_transmission"]["transmissionFactor"] = 0.5.into();
     SceneData::from_slice(doc.to_string().as_bytes(), "glass caustic").expect("glass caustic scene")
 }
+
+/// A 32 × 16 sky for the environment tests: a blue gradient from the zenith, a dark ground
+/// below the horizon, a warm band, and a small bright sun (2 × 1 texels) that holds about a
+/// third of its power.
+#[allow(dead_code)]
+pub fn sky_map(rotation_degrees: f32) -> shared::environment::EnvironmentMap {
+    let (w, h) = (32u32, 16u32);
+    let mut texels = Vec::new();
+    for j in 0..h {
+        for i in 0..w {
+            let rgb = if j >= h / 2 {
+                [0.05, 0.04, 0.03]
+            } else if (i == 9 || i == 10) && j == 4 {
+                [60.0, 55.0, 45.0]
+            } else if j == h / 2 - 1 {
+                [0.9, 0.6, 0.3]
+            } else {
+                let t = j as f32 / (h / 2) as f32;
+                [0.2 + 0.4 * t, 0.35 + 0.4 * t, 0.8 + 0.1 * t]
+            };
+            texels.push(rgb);
+        }
+    }
+    shared::environment::EnvironmentMap::new(w, h, &texels, rotation_degrees.to_radians())
+}
+
+/// A constant environment of radiance `l` (what `--environment l,l,l` builds).
+#[allow(dead_code)]
+pub fn uniform_sky(l: f32) -> shared::environment::EnvironmentMap {
+    smlt::scene::EnvironmentSpec { source: format!("{l}"), strength: 1.0, rotation_degrees: 0.0 }
+        .read()
+        .expect("a constant environment")
+}
+
+/// The environment furnace: one convex object under a uniform environment of radiance 1 and
+/// nothing else. A convex object sees only the environment, so a Lambertian cube of albedo
+/// `rho` sends exactly `rho` wherever it is seen (one bounce), and a lossless glass cube sends
+/// exactly 1 (less what its internal reflections push past the depth limit). With `fill`, the
+/// camera is close enough for the object to fill the view; otherwise it sees the object and the
+/// environment around it (radiance 1 there), so with `rho` = 1 every pixel is 1.
+#[allow(dead_code)]
+pub fn environment_furnace(rho: f32, glass: bool, fill: bool) -> SceneData {
+    let mut b = GltfBuilder::new();
+    let m = if glass {
+        b.glass("glass", [1.0; 3], 1.5, true)
+    } else {
+        b.material("cube", [rho; 3], [0.0; 3], 1.0, None)
+    };
+    let v = Vec3::new;
+    b.cuboid(m, v(0.0, 0.0, 0.0), v(0.5, 0.5, 0.5), 0.5);
+    let eye = if fill { v(0.0, 0.15, 0.95) } else { v(0.4, 0.9, 2.2) };
+    b.camera(eye, v(0.0, 0.0, 0.0), Vec3::Y, if fill { 30f32 } else { 50f32 }.to_radians());
+    SceneData::from_slice_with_environment(
+        b.to_json().as_bytes(),
+        "environment furnace",
+        Some(uniform_sky(1.0)),
+    )
+    .expect("environment furnace")
+}
+
+/// Under the sky (`sky_map`, turned 30°) and a small area lamp: a floor, a wall, a diffuse
+/// block and a solid glass ball — the environment reached by camera paths and by light
+/// sampling, left by light subpaths, seen through glass and mixed with a triangle light.
+#[allow(dead_code)]
+pub fn sky_scene() -> SceneData {
+    let mut b = GltfBuilder::new();
+    let floor = b.material("floor", [0.6; 3], [0.0; 3], 1.0, None);
+    let wall = b.material("wall", [0.5, 0.45, 0.4], [0.0; 3], 1.0, None);
+    let block = b.material("block", [0.3, 0.5, 0.7], [0.0; 3], 1.0, None);
+    let glass = b.glass("glass", [0.95, 0.97, 1.0], 1.5, true);
+    let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 6.0, None);
+    let v = Vec3::new;
+    b.quad(floor, [v(-2., 0., 2.), v(2., 0., 2.), v(2., 0., -2.), v(-2., 0., -2.)]);
+    b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 1.2, -2.), v(-2., 1.2, -2.)]);
+    b.cuboid(block, v(0.9, 0.3, -0.6), v(0.3, 0.3, 0.3), 0.4);
+    b.sphere(glass, v(-0.4, 0.45, -0.2), 0.45, 10);
+    let q = [v(-1.6, 1.0, -1.9), v(-1.0, 1.0, -1.9), v(-1.0, 1.0, -1.3), v(-1.6, 1.0, -1.3)];
+    b.quad(lamp, smlt::scenes::facing(q, -Vec3::Y));
+    b.camera(v(0.0, 1.3, 2.6), v(0.0, 0.4, -0.5), Vec3::Y, 50f32.to_radians());
+    SceneData::from_slice_with_environment(b.to_json().as_bytes(), "sky scene", Some(sky_map(30.0)))
+        .expect("sky scene")
+}

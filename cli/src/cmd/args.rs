@@ -9,7 +9,7 @@ use shared::mutation::MutationParams;
 
 use smlt::gpu::Gpu;
 use smlt::render;
-use smlt::scene::SceneData;
+use smlt::scene::{EnvironmentSpec, SceneData};
 
 /// Where the kernels run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -117,13 +117,35 @@ pub struct SceneArgs {
     /// Which of the scene's cameras to use (1 = the first).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub view: u32,
+    /// Light the scene by an environment too: a latitude-longitude .exr or .hdr image of
+    /// linear radiance (+Y up, Mitsuba's orientation), or a constant colour (0.5,0.6,0.8).
+    #[arg(long, value_name = "FILE|R,G,B", allow_negative_numbers = true)]
+    pub environment: Option<String>,
+    /// The factor the environment's radiance is scaled by.
+    #[arg(long, default_value_t = 1.0, requires = "environment")]
+    pub environment_strength: f32,
+    /// The environment's rotation about +Y, in degrees.
+    #[arg(long, default_value_t = 0.0, requires = "environment", allow_negative_numbers = true)]
+    pub environment_rotation: f32,
 }
 
 impl SceneArgs {
-    /// The scene at its view and the hash of its files; prints the loader's warnings.
+    /// The environment light asked for, if any.
+    pub fn environment(&self) -> Option<EnvironmentSpec> {
+        self.environment.as_ref().map(|source| EnvironmentSpec {
+            source: source.clone(),
+            strength: self.environment_strength,
+            rotation_degrees: self.environment_rotation,
+        })
+    }
+
+    /// The scene at its view, lit by the environment asked for, and the hash of its files
+    /// (and of the environment); prints the loader's warnings.
     pub fn load(&self) -> anyhow::Result<(SceneData, String)> {
         let name = self.scene.as_ref().map(|p| p.to_string_lossy().into_owned());
-        let (_, mut scene, hash) = smlt::scenes::open(name.as_deref(), 1)?;
+        let environment = self.environment();
+        let (_, mut scene, hash) =
+            smlt::scenes::open_with_environment(name.as_deref(), 1, environment.as_ref())?;
         scene.select_view(self.view)?;
         for w in &scene.warnings {
             eprintln!("warning: {}: {w}", scene.name);

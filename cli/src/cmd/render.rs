@@ -186,6 +186,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         settings.height,
         settings.method()
     );
+    if let Some(env) = a.scene.environment() {
+        let e = &scene.environment;
+        println!("lit by environment {} ({} × {} texels)", env.describe(), e.width, e.height);
+    }
     if let Some(line) = render::blind_spot(settings.method(), &scene) {
         eprintln!("note: {line}");
     }

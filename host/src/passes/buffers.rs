@@ -9,6 +9,7 @@ use bytemuck::Pod;
 use glam::Vec4;
 use shared::bsdf::Material;
 use shared::cwbvh::WideNode;
+use shared::environment::Environment;
 use shared::light::LightEntry;
 use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex};
 use shared::params::{RenderParams, ESTIMATOR_PATH};
@@ -182,6 +183,10 @@ pub struct SceneBuffers<S: Storage> {
     pub lights: S::Of<LightEntry>,
     /// The punctual lights (at least one entry).
     pub punctual: S::Of<PunctualLight>,
+    /// The environment light (one entry).
+    pub environment: S::Of<Environment>,
+    /// Its texels and CDFs (at least one value).
+    pub environment_map: S::Of<f32>,
 }
 
 impl<S: Storage> SceneBuffers<S> {
@@ -193,6 +198,8 @@ impl<S: Storage> SceneBuffers<S> {
             materials: s.copy_of("materials", "materials", &scene.materials),
             lights: s.copy_of("lights", "lights", &scene.lights),
             punctual: s.copy_of("punctual", "punctual lights", scene.punctual_lights()),
+            environment: s.copy_of("environment", "environment light", &[scene.environment]),
+            environment_map: s.copy_of("environment_map", "environment map", &scene.environment_map),
         }
     }
 

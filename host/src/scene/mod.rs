@@ -16,12 +16,18 @@
 //!   the render's width/height). Without one, the documented default: a 40° vertical field of
 //!   view looking down −Z at the centre of the scene's bounding box, from where the box's
 //!   larger side fills the view.
+//!
+//! Besides the file, a render may be given an environment light (`--environment`,
+//! [`EnvironmentSpec`]): it is picked with the file's lights, its light subpaths start on the
+//! same bounding sphere's disks as a directional light's.
 
+mod environment;
 mod lights;
 mod parse;
 mod read;
 mod validate;
 
+pub use environment::EnvironmentSpec;
 pub use lights::LUMENS_PER_WATT;
 pub use read::{files_hash, read_document, PHONG_EXPONENT_KEY};
 
@@ -31,7 +37,8 @@ use shared::bsdf::Material;
 use shared::camera::Camera;
 use shared::color::luminance;
 use shared::cwbvh::{WideBvh, WideNode, WIDE_BVH_STACK_SIZE};
-use shared::light::{light_cdf, LightEntry, PUNCTUAL};
+use shared::environment::{Environment, EnvironmentMap};
+use shared::light::{light_cdf, LightEntry, ENVIRONMENT, PUNCTUAL};
 use shared::punctual::PunctualLight;
 use shared::scene::Scene;
 use shared::triangle::{Triangle, TriangleEdges};
@@ -71,11 +78,20 @@ pub enum SceneError {
     /// No triangles at all.
     #[error("scene {0} has no triangles")]
     Empty(String),
-    /// No emitting triangle of positive area and no punctual light of positive power.
+    /// No emitting triangle of positive area, no punctual light of positive power and no
+    /// environment light that is not black.
     #[error(
-        "nothing emits light in scene {0}: give some material an emissiveFactor or add a KHR_lights_punctual light"
+        "nothing emits light in scene {0}: give some material an emissiveFactor, add a KHR_lights_punctual light, or light it with --environment"
     )]
     NoEmitter(String),
+    /// The environment light cannot be used (`--environment`).
+    #[error("cannot use environment {given}: {what}")]
+    Environment {
+        /// The file or colour given.
+        given: String,
+        /// What is wrong with it.
+        what: String,
+    },
     /// The BVH is deeper than the device traversal stack.
     #[error("the BVH of scene {path} is {depth} levels deep; traversal supports {max}")]
     BvhTooDeep {
@@ -127,6 +143,11 @@ pub struct SceneData {
     /// The punctual lights (`KHR_lights_punctual`), in world space; a directional light's disk
     /// covers the bounding sphere of `bounds`.
     pub punctual: Vec<PunctualLight>,
+    /// The environment light (`shared::environment::NONE` without one), its disk the same
+    /// sphere's and its pick the light CDF's.
+    pub environment: Environment,
+    /// Its texels and CDFs (one zero without one: a device buffer is never empty).
+    pub environment_map: Vec<f32>,
     /// The camera of the selected view.
     pub camera: CameraSpec,
     /// Every perspective camera of the file, in scene order (views 1, 2, …).
@@ -151,6 +172,8 @@ pub struct TriangleSoup {
     pub punctual: Vec<PunctualLight>,
     /// The file's perspective cameras, in scene order.
     pub cameras: Vec<CameraSpec>,
+    /// The environment light the render was given (not the file's: glTF has none).
+    pub environment: Option<EnvironmentMap>,
     /// Ignored content.
     pub warnings: Vec<String>,
 }
@@ -190,6 +213,8 @@ impl SceneData {
             materials: &self.materials,
             lights: &self.lights,
             punctual: self.punctual_lights(),
+            environment: &self.environment,
+            environment_map: &self.environment_map,
         }
     }
 
@@ -290,11 +315,13 @@ impl SceneData {
                 hi = hi.max(*v);
             }
         }
-        // A directional light's disk covers the bounding sphere of the triangles.
+        // A directional light's disk, and the environment's, cover the bounding sphere of the
+        // triangles.
+        let (centre, radius) = ((lo + hi) * 0.5, (0.5 * (hi - lo).length()).max(1e-3));
         let mut punctual = soup.punctual;
         for light in punctual.iter_mut().filter(|l| l.is_directional()) {
-            light.position = ((lo + hi) * 0.5).to_array();
-            light.radius = (0.5 * (hi - lo).length()).max(1e-3);
+            light.position = centre.to_array();
+            light.radius = radius;
         }
         // Triangles and punctual lights on one scale of power (`shared::light`).
         let mut power: Vec<f64> = triangles
@@ -311,8 +338,26 @@ impl SceneData {
             area.push(1.0);
             ids.push(PUNCTUAL | i as u32);
         }
+        // The environment's flux through its disk over π: r² ∫ luminance(L) dω.
+        if let Some(env) = &soup.environment {
+            power.push(radius as f64 * radius as f64 * env.luminance_integral());
+            area.push(1.0);
+            ids.push(ENVIRONMENT);
+        }
         let (lights, pdf) =
             light_cdf(&power, &area, &ids).ok_or_else(|| SceneError::NoEmitter(name.into()))?;
+        let (environment, environment_map) = match soup.environment {
+            Some(env) => {
+                let e = Environment {
+                    pick: *pdf.last().expect("the environment's entry"),
+                    centre: centre.to_array(),
+                    radius,
+                    ..env.environment
+                };
+                (e, env.map)
+            }
+            None => (shared::environment::NONE, vec![0.0]),
+        };
         for (t, pdf) in triangles.iter_mut().zip(pdf) {
             t.light_area_pdf = pdf;
         }
@@ -326,6 +371,8 @@ impl SceneData {
             materials: soup.materials,
             lights,
             punctual,
+            environment,
+            environment_map,
             camera,
             views: soup.cameras,
             bounds: (lo, hi),

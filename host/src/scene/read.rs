@@ -5,6 +5,7 @@ use std::path::Path;
 
 use glam::{Mat4, Vec3, Vec4Swizzles};
 use shared::bsdf::Material;
+use shared::environment::EnvironmentMap;
 
 use super::parse::{parse, Parsed};
 use super::{CameraSpec, SceneData, SceneError, TriangleSoup};
@@ -19,6 +20,14 @@ pub const MAX_COORDINATE: f32 = 1e15;
 impl SceneData {
     /// Loads a glTF (.gltf or .glb) file.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
+        Self::load_with_environment(path, None)
+    }
+
+    /// Loads a glTF (.gltf or .glb) file lit by the environment light `environment` too.
+    pub fn load_with_environment(
+        path: &Path,
+        environment: Option<EnvironmentMap>,
+    ) -> Result<Self, SceneError> {
         let name = path.display().to_string();
         if path.is_dir() {
             return Err(SceneError::Load { path: name, reason: "is a directory, not a glTF file".into() });
@@ -36,20 +45,34 @@ impl SceneData {
                 _ => e,
             }
         })?;
-        Self::from_parsed(parsed, &name)
+        Self::from_parsed(parsed, &name, environment)
     }
 
     /// Loads a glTF document held in memory (a .gltf with data URIs, or a .glb).
     pub fn from_slice(bytes: &[u8], name: &str) -> Result<Self, SceneError> {
+        Self::from_slice_with_environment(bytes, name, None)
+    }
+
+    /// Loads a glTF document held in memory, lit by the environment light `environment` too.
+    pub fn from_slice_with_environment(
+        bytes: &[u8],
+        name: &str,
+        environment: Option<EnvironmentMap>,
+    ) -> Result<Self, SceneError> {
         precheck(bytes, name)?;
         let parsed = guarded(name, || parse(bytes, name, None))??;
-        Self::from_parsed(parsed, name)
+        Self::from_parsed(parsed, name, environment)
     }
 
     /// The scene of a parsed document.
-    fn from_parsed(parsed: Parsed, name: &str) -> Result<Self, SceneError> {
+    fn from_parsed(
+        parsed: Parsed,
+        name: &str,
+        environment: Option<EnvironmentMap>,
+    ) -> Result<Self, SceneError> {
         check(&parsed.doc, &parsed.buffers, name)?;
-        let soup = read_document(&parsed.doc, &parsed.buffers, &parsed.placeholders, name)?;
+        let mut soup = read_document(&parsed.doc, &parsed.buffers, &parsed.placeholders, name)?;
+        soup.environment = environment;
         let mut scene = Self::from_soup(soup, name)?;
         scene.warnings.extend(parsed.warnings);
         Ok(scene)

@@ -15,7 +15,7 @@ use glam::{Mat3, Quat, Vec3};
 use serde_json::{json, Value};
 
 use crate::hash::content_hash;
-use crate::scene::{files_hash, SceneData, SceneError};
+use crate::scene::{files_hash, EnvironmentSpec, SceneData, SceneError};
 
 /// Two unit vectors orthogonal to `d` and to each other.
 pub fn frame(d: Vec3) -> (Vec3, Vec3) {
@@ -60,20 +60,44 @@ pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/cornell.gltf");
 /// names and tables, the scene, and the hash of everything it was read from (a changed `.bin`
 /// changes it).
 pub fn open(name: Option<&str>, tessellation: u32) -> Result<(String, SceneData, String), SceneError> {
+    open_with_environment(name, tessellation, None)
+}
+
+/// [`open`], the scene lit by the environment light `environment` too; the hash covers the
+/// environment's texels (its strength and rotation applied) as well as the scene's files.
+pub fn open_with_environment(
+    name: Option<&str>,
+    tessellation: u32,
+    environment: Option<&EnvironmentSpec>,
+) -> Result<(String, SceneData, String), SceneError> {
+    let env = environment.map(|e| e.read()).transpose()?;
+    let env_hash = env.as_ref().map(|e| {
+        let header = format!("{} {} {:?}", e.environment.width, e.environment.height, e.environment.rotation);
+        content_hash(&[header.as_bytes(), bytemuck::cast_slice(&e.map)].concat())
+    });
+    let with_env = |hash: String| match &env_hash {
+        Some(e) => content_hash(format!("{hash} {e}").as_bytes()),
+        None => hash,
+    };
     match name {
         None => {
-            let scene = SceneData::from_slice(DEFAULT_SCENE.as_bytes(), "the embedded Cornell box")?;
-            Ok(("cornell".into(), scene, content_hash(DEFAULT_SCENE.as_bytes())))
+            let scene = SceneData::from_slice_with_environment(
+                DEFAULT_SCENE.as_bytes(),
+                "the embedded Cornell box",
+                env,
+            )?;
+            Ok(("cornell".into(), scene, with_env(content_hash(DEFAULT_SCENE.as_bytes()))))
         }
         Some(name) => match generate(name, tessellation) {
             Some(text) => {
-                let scene = SceneData::from_slice(text.as_bytes(), name)?;
-                Ok((name.to_string(), scene, content_hash(text.as_bytes())))
+                let scene = SceneData::from_slice_with_environment(text.as_bytes(), name, env)?;
+                Ok((name.to_string(), scene, with_env(content_hash(text.as_bytes()))))
             }
             None => {
                 let path = std::path::Path::new(name);
                 let label = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-                Ok((label, SceneData::load(path)?, files_hash(path)?))
+                let scene = SceneData::load_with_environment(path, env)?;
+                Ok((label, scene, with_env(files_hash(path)?)))
             }
         },
     }

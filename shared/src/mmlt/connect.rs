@@ -11,7 +11,7 @@ use glam::Vec3;
 use crate::bsdf::{bsdf_eval, bsdf_pdf};
 use crate::camera::Camera;
 use crate::layout::soa_index;
-use crate::light::{emitted, is_punctual, punctual_index};
+use crate::light::{emitted, is_environment, is_punctual, punctual_index};
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
 
@@ -32,7 +32,14 @@ fn vertex_pdf<R: RayCaster>(
     to: &PathVertex,
 ) -> f32 {
     let p = from.position();
-    let w = (to.position() - p).normalize_or_zero();
+    if is_at_infinity(from) {
+        // The environment's rays are parallel: its disk's density, projected onto `to`.
+        let cos = if to.kind != KIND_CAMERA { to.normal().dot(from.normal()).abs() } else { 1.0 };
+        return scene.environment.pdf_origin() * cos;
+    }
+    // Towards the environment, the direction's density in solid angle, not converted.
+    let infinite = is_at_infinity(to);
+    let w = if infinite { -to.normal() } else { (to.position() - p).normalize_or_zero() };
     let pdf_dir = if from.kind == KIND_CAMERA {
         camera.pdf_direction(w)
     } else if from.kind == KIND_LIGHT && is_punctual(from.triangle) {
@@ -49,12 +56,21 @@ fn vertex_pdf<R: RayCaster>(
         let m = scene.materials[from.material as usize];
         bsdf_pdf(&m, from.normal(), (before - p).normalize_or_zero(), w)
     };
+    if infinite {
+        return pdf_dir;
+    }
     convert_density(pdf_dir, p, to.position(), to.normal(), to.kind != KIND_CAMERA)
 }
 
-/// Density of a camera-subpath end point `pt` that lies on a light being the light's origin.
+/// Density of a camera-subpath end point `pt` that lies on a light being the light's origin:
+/// an emissive triangle's area density, or the environment's pick times the solid-angle
+/// density of the direction it is reached from.
 #[inline]
 fn light_origin_pdf<R: RayCaster>(scene: Scene<R>, v: &PathVertex) -> f32 {
+    if is_at_infinity(v) {
+        let env = scene.environment;
+        return env.pick * env.pdf(scene.environment_map, -v.normal());
+    }
     scene.triangles[v.triangle as usize].light_area_pdf
 }
 
@@ -113,9 +129,11 @@ pub fn connect_candidate<R: RayCaster>(
     // The pick probability of the light resampled for s = 1.
     let mut pick = 0.0f32;
     if s == 0 {
-        // The camera subpath found a light by itself.
+        // The camera subpath found a light by itself: an emitter, or the environment.
         let m = scene.materials[pt.material as usize];
-        if pt.kind == KIND_SURFACE && m.is_emissive() {
+        if is_at_infinity(&pt) {
+            l = pt.throughput() * scene.environment.radiance(scene.environment_map, -pt.normal());
+        } else if pt.kind == KIND_SURFACE && m.is_emissive() {
             let w = (pt_minus.position() - pt.position()).normalize_or_zero();
             l = pt.throughput() * emitted(Vec3::from_array(m.emission), pt.normal(), w);
         }
@@ -131,9 +149,11 @@ pub fn connect_candidate<R: RayCaster>(
             pick = qs_point.pick;
         }
         let punctual_light = s == 1 && is_punctual(qs.triangle);
+        let environment_light = s == 1 && is_environment(qs.triangle);
         let qp = qs.position();
-        if t == 1 && punctual_light {
-            // The camera does not see a delta light.
+        if t == 1 && (punctual_light || environment_light) {
+            // The camera does not see a delta light, and sees the environment only by itself
+            // (s = 0): this technique has density 0 for such a path.
             pt = PathVertex {
                 p: cam.position,
                 kind: KIND_CAMERA,
@@ -169,6 +189,16 @@ pub fn connect_candidate<R: RayCaster>(
                 pdf_fwd: 1.0,
                 ..Default::default()
             };
+        } else if pt.kind == KIND_SURFACE && environment_light {
+            let pp = pt.position();
+            let wi = -qs.normal();
+            // The light's end of the connection: far along the direction (where the shadow ray
+            // ends).
+            qs.p = scene.environment.beyond(pp, wi).to_array();
+            let mp = scene.materials[pt.material as usize];
+            let f_pt = bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), wi);
+            // qs.beta = L / (pick · p_ω).
+            l = pt.throughput() * f_pt * qs.throughput() * pt.normal().dot(wi).abs();
         } else if pt.kind == KIND_SURFACE && punctual_light {
             let pp = pt.position();
             let inc = scene.punctual[punctual_index(qs.triangle) as usize].incident(pp);
@@ -270,6 +300,9 @@ fn mis_weight<R: RayCaster>(
         0
     };
     let delta_origin = s >= 1 && is_punctual(light_origin);
+    // A path that starts on the environment has no technique (1, 1): the camera sees the
+    // environment only by itself.
+    let environment_origin = if s == 0 { is_at_infinity(pt) } else { is_environment(light_origin) };
     let mut sum = 0.0f32;
     // Whether vertex j of a subpath left by a delta lobe. Its neighbours' densities through it
     // are 0, remapped to 1 (their ratios cancel), and a technique that would connect at it or
@@ -296,7 +329,8 @@ fn mis_weight<R: RayCaster>(
         let before = delta(0, i - 1);
         let after = i + 2 < t && delta(0, i + 1);
         ri *= density_ratio(if after { 1.0 } else { rev }, if before { 1.0 } else { fwd });
-        if !(here || before) {
+        let camera_sees_environment = i == 1 && s + t == 2 && environment_origin;
+        if !(here || before || camera_sees_environment) {
             sum += ri;
         }
     }

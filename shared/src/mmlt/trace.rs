@@ -6,7 +6,7 @@ use glam::{Vec2, Vec3};
 
 use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere, medium_coefficient, transmittance};
 use crate::layout::soa_index;
-use crate::light::{is_punctual, punctual_index, sample_light, LightPoint};
+use crate::light::{is_environment, is_punctual, punctual_index, sample_light, LightPoint, ENVIRONMENT};
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
 
@@ -74,6 +74,27 @@ fn random_walk<R: RayCaster>(
     while count < max_vertices {
         let hit = scene.caster.closest_hit(origin, d, 0.0, crate::triangle::NO_HIT);
         if !hit.found() {
+            // A camera subpath that leaves the scene ends on the environment (not from inside
+            // a medium): a light vertex at infinity, its forward density the direction's, in
+            // solid angle (pbrt's BDPT), its normal the direction the light travels.
+            let env = scene.environment;
+            if side == 0 && env.is_present() && !(sigma.max_element() > 0.0) {
+                let v = PathVertex {
+                    p: env.beyond(origin, d).to_array(),
+                    kind: KIND_LIGHT,
+                    n: (-d).to_array(),
+                    material: 0,
+                    beta: beta.to_array(),
+                    pdf_fwd: pdf_dir,
+                    pdf_rev: 0.0,
+                    triangle: ENVIRONMENT,
+                    delta: 0,
+                    _pad: 0,
+                };
+                vertices[soa_index(samples.candidate, vertex_slot(side, count, max_depth), samples.count)] =
+                    v;
+                count += 1;
+            }
             break;
         }
         let tri = scene.triangles[hit.triangle as usize];
@@ -122,9 +143,14 @@ fn random_walk<R: RayCaster>(
             v.delta = 1;
             vertices[slot] = v;
         }
-        // The density of the reverse walk arriving at the predecessor.
+        // The density of the reverse walk arriving at the predecessor (at the environment, in
+        // solid angle).
         let pdf_back = if bs.delta { 0.0 } else { bsdf_pdf(&m, n, bs.wi, wo) };
-        prev.pdf_rev = convert_density(pdf_back, p, prev.position(), prev.normal(), prev.kind != KIND_CAMERA);
+        prev.pdf_rev = if is_at_infinity(&prev) {
+            pdf_back
+        } else {
+            convert_density(pdf_back, p, prev.position(), prev.normal(), prev.kind != KIND_CAMERA)
+        };
         vertices[soa_index(samples.candidate, vertex_slot(side, count - 2, max_depth), samples.count)] = prev;
         prev = v;
         d = bs.wi;
@@ -179,7 +205,29 @@ pub fn trace_candidate<R: RayCaster>(
         let v0 = light_vertex(&ls);
         vertices[soa_index(samples.candidate, vertex_slot(1, 0, max_depth), samples.count)] = v0;
         light_vertices = 1;
-        if v0.pdf_fwd > 0.0 && is_punctual(ls.light) {
+        if v0.pdf_fwd > 0.0 && is_environment(ls.light) {
+            // A direction towards the environment (the light point's samples), then the disk's
+            // point: beta = L / (p_ω · p_A), p_ω with the pick, p_A on the disk.
+            let env = scene.environment;
+            let origin = env.sample_origin(v0.normal(), samples.get2(u, DIM_LIGHT_DIRECTION));
+            let v0 = PathVertex { p: origin.to_array(), ..v0 };
+            vertices[soa_index(samples.candidate, vertex_slot(1, 0, max_depth), samples.count)] = v0;
+            let beta = v0.throughput() / env.pdf_origin();
+            light_vertices = random_walk(
+                params,
+                scene,
+                u,
+                samples,
+                1,
+                v0,
+                v0.normal(),
+                beta,
+                env.pdf_origin(),
+                true,
+                s,
+                vertices,
+            );
+        } else if v0.pdf_fwd > 0.0 && is_punctual(ls.light) {
             let light = scene.punctual[punctual_index(ls.light) as usize];
             let e = light.sample_direction(samples.get2(u, DIM_LIGHT_DIRECTION));
             let le = light.emitted(e.w);

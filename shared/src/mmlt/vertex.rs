@@ -75,6 +75,14 @@ pub struct PathInfo {
     pub _pad: [u32; 2],
 }
 
+/// Whether `v` is the environment light's vertex, at infinity: its position is only where a
+/// shadow ray towards it ends, its normal the direction its light travels, and the densities of
+/// reaching it are solid-angle densities (pbrt's BDPT).
+#[inline]
+pub fn is_at_infinity(v: &PathVertex) -> bool {
+    v.kind == KIND_LIGHT && crate::light::is_environment(v.triangle)
+}
+
 /// Slot of vertex `i` of a subpath in a candidate's `max_depth + 2` slots: camera vertices
 /// from the front, light vertices from the back (s + t ≤ max_depth + 2, so they never meet).
 #[inline]
