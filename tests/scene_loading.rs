@@ -339,7 +339,8 @@ fn glass_doc(extensions: Value) -> Value {
 }
 
 /// Glass reads as the spec defines it: the transmission share, the ior (1.5 by default),
-/// thin-walled without a volume or with thicknessFactor 0, solid with a thickness, and the
+/// thin-walled without a volume or with thicknessFactor 0, solid with a thickness (rough with
+/// α = roughness²), and the
 /// Beer–Lambert coefficient −ln(attenuationColor) / attenuationDistance. Values outside the
 /// spec's ranges are refused in one line by their glTF path; the special ior 0 is refused as
 /// not modelled.
@@ -361,6 +362,25 @@ fn glass_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     for (a, e) in solid.attenuation.iter().zip(expected) {
         assert!((a - e).abs() < 1e-6, "{:?} vs {expected:?}", solid.attenuation);
     }
+    // Rough: a solid's α is roughness²; a thin wall stays smooth, said once.
+    let rough = |ext: Value| {
+        let mut doc = glass_doc(ext);
+        doc["materials"][1]["pbrMetallicRoughness"]["roughnessFactor"] = json!(0.5);
+        let scene = load(&doc).unwrap();
+        let m = scene.materials.iter().copied().find(|m| m.albedo == [0.9, 0.8, 0.7]).expect("the glass");
+        (m, scene.warnings)
+    };
+    let (rough_solid, warnings) = rough(json!({
+        "KHR_materials_transmission": {"transmissionFactor": 1.0},
+        "KHR_materials_volume": {"thicknessFactor": 1.0}
+    }));
+    assert!(
+        rough_solid.alpha == 0.25 && rough_solid.is_rough_dielectric() && warnings.is_empty(),
+        "{warnings:?}"
+    );
+    let (rough_thin, warnings) = rough(json!({"KHR_materials_transmission": {"transmissionFactor": 1.0}}));
+    assert!(rough_thin.alpha == 0.0 && !rough_thin.is_rough_dielectric());
+    assert!(warnings.iter().any(|w| w.contains("rough transmission is rendered smooth")), "{warnings:?}");
     let zero_thickness = material(json!({
         "KHR_materials_transmission": {"transmissionFactor": 1.0},
         "KHR_materials_volume": {"thicknessFactor": 0.0}

@@ -2,7 +2,8 @@
 # Mitsuba 3 against smlt under glass: the `caustic` scene without its spot lamp (where
 # Mitsuba's path tracer renders every path: its area lamp's caustic by BSDF sampling), and each
 # glass alone in it (the clear solid ball, the absorbing amber block, the thin pane, the others
-# removed): the means and RMSEs that docs/results.md quotes.
+# removed), and the clear ball made rough (roughnessFactor 0.5): the means and RMSEs that
+# docs/results.md quotes.
 #   scripts/peers/check_glass.sh [OUT]   (default: /tmp/check-glass)
 # Needs smlt built (cargo build --release) and the peers' Python packages (requirements.txt).
 set -euo pipefail
@@ -32,6 +33,15 @@ for g in glass:
     one["nodes"] = keep
     one["scenes"][0]["nodes"] = list(range(len(keep)))
     json.dump(one, open(f"glass_{name}.gltf", "w"))
+PY
+# The clear ball made rough (roughnessFactor 0.5: GGX α 0.25), alone.
+python3 - <<'PY'
+import json
+doc = json.load(open("glass_clear.gltf"))
+for m in doc["materials"]:
+    if "KHR_materials_transmission" in m.get("extensions", {}):
+        m["pbrMetallicRoughness"]["roughnessFactor"] = 0.5
+json.dump(doc, open("glass_frosted.gltf", "w"))
 PY
 for variant in glass_*.gltf; do
     name="$(basename "$variant" .gltf)"

@@ -2,7 +2,7 @@
 transforms, baseColorFactor, emissiveFactor x KHR_materials_emissive_strength, the Phong
 exponent in the material's extras, perspective cameras in depth-first scene order,
 KHR_lights_punctual lights in smlt's units: candela / 683 W/sr, lux / 683 W/m², glass from
-KHR_materials_transmission, _ior and _volume) into plain numpy arrays, for the peers' converters."""
+KHR_materials_transmission, _ior and _volume, a solid glass's roughness) into plain numpy arrays, for the peers' converters."""
 
 import base64
 import json
@@ -27,6 +27,7 @@ class Material:
     ior: float = 1.5
     thin_walled: bool = True  # no KHR_materials_volume (or thicknessFactor 0)
     attenuation: tuple = (0.0, 0.0, 0.0)  # Beer-Lambert coefficient inside a solid, 1/m
+    alpha: float = 0.0  # a solid's GGX roughness, roughnessFactor^2 (0: smooth; thin walls stay smooth)
 
 
 @dataclass
@@ -118,7 +119,10 @@ def load(path):
         if not thin and math.isfinite(volume.get("attenuationDistance", math.inf)):
             colour = volume.get("attenuationColor", [1, 1, 1])
             attenuation = tuple(-math.log(max(c, 1e-30)) / volume["attenuationDistance"] for c in colour)
-        materials.append(Material(m.get("name", ""), tuple(base), emission, phong, transmission, ior, thin, attenuation))
+        roughness = float(m.get("pbrMetallicRoughness", {}).get("roughnessFactor", 1.0))
+        alpha = roughness ** 2 if transmission > 0 and not thin and roughness ** 2 >= 1e-3 else 0.0
+        materials.append(Material(m.get("name", ""), tuple(base), emission, phong, transmission, ior, thin,
+                                  attenuation, alpha))
     scene = Scene(materials)
     root = doc["scenes"][doc.get("scene", 0)]
     stack = [(n, np.eye(4)) for n in reversed(root["nodes"])]

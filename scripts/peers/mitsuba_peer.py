@@ -20,6 +20,7 @@ sampling and two-sided semantics (`mitsuba_phong.py`, checked by `check_phong.py
 depth k (bounces, pbrt's maxdepth) -> Mitsuba's max_depth k + 1; box pixel filter (smlt's pixels
 are box averages); KHR_lights_punctual -> `point`, `spot` (see `light_dict`) and `directional`
 of the same radiometric values; glass (KHR_materials_transmission) -> `dielectric` (a solid:
+`roughdielectric` with `ggx` of the same alpha where it is rough;
 KHR_materials_volume, with a `homogeneous` purely absorbing interior medium and `volpath` where
 it attenuates) or `thindielectric` (thin-walled: Mitsuba sums the slab's inter-reflections,
 reflecting 2R/(1+R) where glTF's single interface reflects R), tinted by baseColor, blended
@@ -79,6 +80,9 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
         if mat.transmission > 0:
             glass = {"type": "thindielectric" if mat.thin_walled else "dielectric",
                      "int_ior": mat.ior, "ext_ior": 1.0, "specular_transmittance": rgb}
+            if mat.alpha > 0:
+                glass.update({"type": "roughdielectric", "distribution": "ggx", "alpha": mat.alpha,
+                              "sample_visible": True})
             if mat.transmission < 1:
                 glass = {"type": "blendbsdf", "weight": mat.transmission, "bsdf_0": bsdf, "bsdf_1": glass}
             bsdf = glass

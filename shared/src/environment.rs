@@ -212,7 +212,11 @@ impl Environment {
             return none;
         }
         let pdf_uv = texel_weight(rgb, j, self.height) / self.mean_weight;
-        EnvironmentSample { wi: self.map_to_world(d), radiance: rgb, pdf: pdf_uv / (2.0 * PI * PI * sin_theta) }
+        EnvironmentSample {
+            wi: self.map_to_world(d),
+            radiance: rgb,
+            pdf: pdf_uv / (2.0 * PI * PI * sin_theta),
+        }
     }
 
     /// The origin of a light subpath arriving along the unit direction `travel` (−wi) for `u`

@@ -12,8 +12,8 @@
 //! - [`tree`]: the speculative mutation tree (the paper's §4, Eq. 2 and Eq. 3 generalised);
 //! - [`reject_chain`]: the reject chain of Byrd et al. (the paper's §3.3);
 //! - [`layout`]: SoA indexing and the packed `float4` contribution;
-//! - [`camera`], [`bsdf`], [`light`], [`punctual`], [`environment`], [`triangle`]: the scene
-//!   primitives, and
+//! - [`camera`], [`bsdf`] (with [`microfacet`]'s GGX), [`light`], [`punctual`], [`environment`],
+//!   [`triangle`]: the scene primitives, and
 //!   [`color`]'s luminance;
 //! - [`params`]: what every dispatch of the chains' stages knows;
 //! - [`ray_caster`]: the one seam between the path code and ray casting (and the ray origin
@@ -36,6 +36,7 @@ pub mod discrete;
 pub mod environment;
 pub mod layout;
 pub mod light;
+pub mod microfacet;
 pub mod mmlt;
 pub mod mutation;
 pub mod normalisation;

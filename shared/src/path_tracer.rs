@@ -224,7 +224,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         if is_environment(ls.light) {
             // A direction towards the environment: a shadow ray out of the scene's bounds.
             let wi = -ls.n;
-            let f = bsdf_eval(&m, n, wo, wi);
+            let f = bsdf_eval(&m, n, wo, wi, true);
             if ls.emission.max_element() > 0.0 && f.max_element() > 0.0 && ls.pdf_area > 0.0 {
                 let from = spawn(p, n, wi, settings.epsilon);
                 let reach = (scene.environment.beyond(from, wi) - from).length();
@@ -236,7 +236,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         } else if is_punctual(ls.light) {
             // A delta light: no BSDF sample finds it, so the light sample takes it all.
             let inc = scene.punctual[punctual_index(ls.light) as usize].incident(p);
-            let f = bsdf_eval(&m, n, wo, inc.wi);
+            let f = bsdf_eval(&m, n, wo, inc.wi, true);
             if inc.radiance.max_element() > 0.0 && f.max_element() > 0.0 && ls.pick > 0.0 {
                 let from = spawn(p, n, inc.wi, settings.epsilon);
                 let span = inc.from - from;
@@ -253,7 +253,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
                 let dist = dist2.sqrt();
                 let wl = to_light / dist;
                 let le = emitted(ls.emission, nq, -wl);
-                let f = bsdf_eval(&m, n, wo, wl);
+                let f = bsdf_eval(&m, n, wo, wl, true);
                 let cos_l = nq.dot(wl).abs();
                 if le.max_element() > 0.0 && f.max_element() > 0.0 && cos_l > 0.0 {
                     let pdf_light = ls.pdf_area * dist2 / cos_l;

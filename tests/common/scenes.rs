@@ -93,6 +93,25 @@ pub fn glass_caustic(area: bool) -> SceneData {
     SceneData::from_slice(doc.to_string().as_bytes(), "glass caustic").expect("glass caustic scene")
 }
 
+/// A frosted glass ball (a rough dielectric, roughness `roughness`, α its square) on a floor
+/// before a wall, lit by a point lamp above it: its caustic, light through rough glass onto the
+/// floor, every method renders, the path tracer by light sampling at the glass.
+#[allow(dead_code)]
+pub fn rough_glass_caustic(roughness: f32) -> SceneData {
+    let mut b = GltfBuilder::new();
+    let floor = b.material("floor", [0.6; 3], [0.0; 3], 1.0, None);
+    let wall = b.material("wall", [0.5, 0.45, 0.4], [0.0; 3], 1.0, None);
+    let glass = b.glass("frosted", [0.95, 0.97, 1.0], 1.5, true);
+    b.roughness(glass, roughness);
+    let v = Vec3::new;
+    b.quad(floor, [v(-2., 0., 2.), v(2., 0., 2.), v(2., 0., -2.), v(-2., 0., -2.)]);
+    b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 2., -2.), v(-2., 2., -2.)]);
+    b.sphere(glass, v(0.0, 0.5, -0.5), 0.5, 10);
+    b.point_light(v(0.3, 2.0, -0.5), [1.0; 3], 2000.0);
+    b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.3, -0.5), Vec3::Y, 45f32.to_radians());
+    SceneData::from_slice(b.to_json().as_bytes(), "rough glass caustic").expect("rough glass caustic")
+}
+
 /// A 32 × 16 sky for the environment tests: a blue gradient from the zenith, a dark ground
 /// below the horizon, a warm band, and a small bright sun (2 × 1 texels) that holds about a
 /// third of its power.
@@ -153,8 +172,9 @@ pub fn environment_furnace(rho: f32, glass: bool, fill: bool) -> SceneData {
 }
 
 /// Under the sky (`sky_map`, turned 30°) and a small area lamp: a floor, a wall, a diffuse
-/// block and a solid glass ball — the environment reached by camera paths and by light
-/// sampling, left by light subpaths, seen through glass and mixed with a triangle light.
+/// block, a solid glass ball and a frosted (rough, α 0.25) glass cube — the environment
+/// reached by camera paths and by light sampling, left by light subpaths, seen through smooth
+/// and rough glass and mixed with a triangle light.
 #[allow(dead_code)]
 pub fn sky_scene() -> SceneData {
     let mut b = GltfBuilder::new();
@@ -168,6 +188,10 @@ pub fn sky_scene() -> SceneData {
     b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 1.2, -2.), v(-2., 1.2, -2.)]);
     b.cuboid(block, v(0.9, 0.3, -0.6), v(0.3, 0.3, 0.3), 0.4);
     b.sphere(glass, v(-0.4, 0.45, -0.2), 0.45, 10);
+    let frosted = b.glass("frosted", [0.9, 0.95, 1.0], 1.5, true);
+    b.roughness(frosted, 0.5);
+    // Clear of the floor: a face on the floor's plane would make the hit a toss-up.
+    b.cuboid(frosted, v(0.35, 0.25, 0.5), v(0.2, 0.2, 0.2), 0.3);
     let q = [v(-1.6, 1.0, -1.9), v(-1.0, 1.0, -1.9), v(-1.0, 1.0, -1.3), v(-1.6, 1.0, -1.3)];
     b.quad(lamp, smlt::scenes::facing(q, -Vec3::Y));
     b.camera(v(0.0, 1.3, 2.6), v(0.0, 0.4, -0.5), Vec3::Y, 50f32.to_radians());

@@ -14,7 +14,10 @@ use crate::scene::SceneData;
 pub fn blind_spot(method: Method, scene: &SceneData) -> Option<String> {
     let camera_only =
         matches!(method, Method::PathTracer | Method::Metropolis { estimator: Estimator::Path, .. });
-    let glass = scene.triangles.iter().any(|t| scene.materials[t.material as usize].transmission > 0.0);
+    let glass = scene.triangles.iter().any(|t| {
+        let m = &scene.materials[t.material as usize];
+        m.transmission > 0.0 && !m.is_rough_dielectric()
+    });
     (camera_only && glass && !scene.punctual.is_empty()).then(|| {
         format!(
             "{method} cannot render the punctual lamps' light through smooth glass (caustics, \
@@ -34,7 +37,7 @@ mod tests {
         SceneData::from_slice(text.as_bytes(), "test").unwrap()
     }
 
-    /// Told exactly where a punctual lamp and glass meet, for the camera-only methods.
+    /// Told exactly where a punctual lamp and smooth glass meet, for the camera-only methods.
     #[test]
     fn camera_only_methods_are_told_of_a_lamp_through_glass() {
         let caustic = scene(&generate("caustic", 1).unwrap());
@@ -62,6 +65,16 @@ mod tests {
         b.quad(lamp, [v(-1., 2., -1.), v(1., 2., -1.), v(1., 2., 1.), v(-1., 2., 1.)]);
         b.sphere(glass, Vec3::ZERO, 0.5, 6);
         b.camera(v(0., 0., 3.), Vec3::ZERO, Vec3::Y, 1.0);
+        assert_eq!(blind_spot(Method::PathTracer, &scene(&b.to_json())), None);
+        // A lamp through rough glass: the path tracer's light samples at the glass reach it.
+        let mut b = GltfBuilder::new();
+        let floor = b.material("floor", [0.5; 3], [0.0; 3], 1.0, None);
+        let frosted = b.glass("frosted", [1.0; 3], 1.5, true);
+        b.roughness(frosted, 0.3);
+        b.quad(floor, [v(-1., 0., 1.), v(1., 0., 1.), v(1., 0., -1.), v(-1., 0., -1.)]);
+        b.sphere(frosted, v(0., 0.6, 0.), 0.5, 6);
+        b.point_light(v(0., 2., 0.), [1.0; 3], 100.0);
+        b.camera(v(0., 1., 3.), Vec3::ZERO, Vec3::Y, 1.0);
         assert_eq!(blind_spot(Method::PathTracer, &scene(&b.to_json())), None);
     }
 }

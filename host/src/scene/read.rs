@@ -252,10 +252,6 @@ fn read_glass(
         )));
     }
     glass.transmission = factor;
-    if factor > 0.0 && m.pbr_metallic_roughness().roughness_factor() > 0.0 {
-        warnings
-            .push(format!("{label}: rough transmission is rendered smooth (roughness is not modelled yet)"));
-    }
     if transmission.transmission_texture().is_some() {
         warnings.push(format!("{label}: transmissionTexture is ignored (its factor is used)"));
     }
@@ -277,6 +273,16 @@ fn read_glass(
             if distance.is_finite() {
                 glass.attenuation = color.map(|c| -c.max(1e-30).ln() / distance);
             }
+        }
+    }
+    // A solid's interface is as rough as the material (GGX, α = roughness²); a thin wall's
+    // rough passage is not modelled.
+    let roughness = m.pbr_metallic_roughness().roughness_factor();
+    if factor > 0.0 && roughness > 0.0 {
+        if glass.thin_walled != 0 {
+            warnings.push(format!("{label}: a thin wall's rough transmission is rendered smooth"));
+        } else {
+            glass.alpha = roughness * roughness;
         }
     }
     Ok(glass)

@@ -174,7 +174,8 @@ impl GltfBuilder {
         self.materials.len() - 1
     }
 
-    /// Adds a smooth glass material (`KHR_materials_transmission` 1, `KHR_materials_ior`): its
+    /// Adds a smooth glass material (`KHR_materials_transmission` 1, `KHR_materials_ior`,
+    /// `roughnessFactor` 0): its
     /// transmission tint, index of refraction, and with `solid` a `KHR_materials_volume` of
     /// thickness 1 (the mesh encloses glass; without it the surface is thin-walled).
     pub fn glass(&mut self, name: &str, tint: [f32; 3], ior: f32, solid: bool) -> usize {
@@ -194,6 +195,12 @@ impl GltfBuilder {
         }));
         self.geometry.push(Vec::new());
         self.materials.len() - 1
+    }
+
+    /// Makes the glass `material` ([`GltfBuilder::glass`]) rough: its `roughnessFactor` (a
+    /// solid's GGX α is its square).
+    pub fn roughness(&mut self, material: usize, roughness: f32) {
+        self.materials[material]["pbrMetallicRoughness"]["roughnessFactor"] = json!(roughness);
     }
 
     /// Makes the solid glass `material` ([`GltfBuilder::glass`]) absorb: the colour white

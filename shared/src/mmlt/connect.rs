@@ -177,7 +177,7 @@ pub fn connect_candidate<R: RayCaster>(
                     }
                 } else {
                     let m = scene.materials[qs.material as usize];
-                    bsdf_eval(&m, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), w)
+                    bsdf_eval(&m, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), w, false)
                 };
                 let g = qs.normal().dot(w).abs() * r.cos_theta / dist2;
                 l = qs.throughput() * f * (cam.importance(-w) * g);
@@ -196,7 +196,7 @@ pub fn connect_candidate<R: RayCaster>(
             // ends).
             qs.p = scene.environment.beyond(pp, wi).to_array();
             let mp = scene.materials[pt.material as usize];
-            let f_pt = bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), wi);
+            let f_pt = bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), wi, true);
             // qs.beta = L / (pick · p_ω).
             l = pt.throughput() * f_pt * qs.throughput() * pt.normal().dot(wi).abs();
         } else if pt.kind == KIND_SURFACE && punctual_light {
@@ -206,7 +206,8 @@ pub fn connect_candidate<R: RayCaster>(
             // light's direction (where the shadow ray ends and the reverse densities look from).
             qs.p = inc.from.to_array();
             let mp = scene.materials[pt.material as usize];
-            let f_pt = bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), inc.wi);
+            let f_pt =
+                bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), inc.wi, true);
             if pick > 0.0 {
                 l = pt.throughput() * f_pt * inc.radiance * (pt.normal().dot(inc.wi).abs() / pick);
             }
@@ -217,7 +218,8 @@ pub fn connect_candidate<R: RayCaster>(
             if dist2 > 0.0 {
                 let w = to_q / dist2.sqrt();
                 let mp = scene.materials[pt.material as usize];
-                let f_pt = bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), w);
+                let f_pt =
+                    bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), w, true);
                 let f_qs = if s == 1 {
                     if qs.normal().dot(-w) > 0.0 {
                         Vec3::ONE
@@ -226,7 +228,7 @@ pub fn connect_candidate<R: RayCaster>(
                     }
                 } else {
                     let mq = scene.materials[qs.material as usize];
-                    bsdf_eval(&mq, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), -w)
+                    bsdf_eval(&mq, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), -w, false)
                 };
                 let g = pt.normal().dot(w).abs() * qs.normal().dot(w).abs() / dist2;
                 l = pt.throughput() * f_pt * f_qs * qs.throughput() * g;

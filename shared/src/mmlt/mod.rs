@@ -31,8 +31,15 @@
 //! directional light, along its direction, `PunctualLight::incident`), and t = 1 with s = 1 (the
 //! camera seeing the light itself) carries nothing. A light subpath leaves a point or spot
 //! light by its emission density; a directional light's starts on its disk, and its first
-//! vertex's density is the disk's, projected (no inverse square). No material is a delta
-//! distribution yet.
+//! vertex's density is the disk's, projected (no inverse square).
+//!
+//! **The environment light** (`crate::environment`) is at infinity, as pbrt's BDPT treats an
+//! infinite light: a camera subpath that leaves the scene ends on a light vertex whose forward
+//! density is the direction's in solid angle ([`is_at_infinity`]); a light subpath starts on
+//! the disk of the bounding sphere perpendicular to a sampled direction, its origin's density
+//! the direction's (with the pick) and its first vertex's the disk's, projected; densities
+//! towards it stay solid-angle densities. The camera sees it only by itself (s = 0): the
+//! technique (1, 1) has density 0 for such a path and is left out of the weight's sum.
 
 mod chain;
 mod connect;
