@@ -52,6 +52,8 @@ pub struct BenchSettings {
     pub reference_spp: u32,
     /// Tessellation of generated scenes.
     pub tessellation: u32,
+    /// The environment light every scene is lit by besides its own lights (`--environment`).
+    pub environment: Option<smlt::scene::EnvironmentSpec>,
     /// Threads of the CPU backend.
     pub threads: usize,
     /// Independent runs of every method (seeds `seed`, `seed + 1`, …).
@@ -95,7 +97,8 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
     let mut noises: Vec<(String, u32, Option<f64>)> = Vec::new();
     let mut blind = Vec::new();
     for (name, view) in &b.scenes {
-        let (label, mut scene, scene_hash) = smlt::scenes::open(Some(name), b.tessellation)?;
+        let (label, mut scene, scene_hash) =
+            smlt::scenes::open_with_environment(Some(name), b.tessellation, b.environment.as_ref())?;
         scene.select_view(*view)?;
         for m in &b.methods {
             if let Some(why) = smlt::render::blind_spot(*m, &scene) {

@@ -180,6 +180,7 @@ mod tests {
             reference_spp: 512,
             candidates: None,
             tessellation: 1,
+            environment: None,
             threads: 1,
             repeats: 1,
             reference: None,

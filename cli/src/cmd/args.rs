@@ -117,6 +117,14 @@ pub struct SceneArgs {
     /// Which of the scene's cameras to use (1 = the first).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub view: u32,
+    #[command(flatten)]
+    #[allow(missing_docs)] // flattened: documented on EnvironmentArgs
+    pub environment: EnvironmentArgs,
+}
+
+/// The environment light a scene is lit by besides its own lights (render, reference, bench).
+#[derive(clap::Args, Clone)]
+pub struct EnvironmentArgs {
     /// Light the scene by an environment too: a latitude-longitude .exr or .hdr image of
     /// linear radiance (+Y up, Mitsuba's orientation), or a constant colour (0.5,0.6,0.8).
     #[arg(long, value_name = "FILE|R,G,B", allow_negative_numbers = true)]
@@ -129,21 +137,23 @@ pub struct SceneArgs {
     pub environment_rotation: f32,
 }
 
-impl SceneArgs {
+impl EnvironmentArgs {
     /// The environment light asked for, if any.
-    pub fn environment(&self) -> Option<EnvironmentSpec> {
+    pub fn spec(&self) -> Option<EnvironmentSpec> {
         self.environment.as_ref().map(|source| EnvironmentSpec {
             source: source.clone(),
             strength: self.environment_strength,
             rotation_degrees: self.environment_rotation,
         })
     }
+}
 
+impl SceneArgs {
     /// The scene at its view, lit by the environment asked for, and the hash of its files
     /// (and of the environment); prints the loader's warnings.
     pub fn load(&self) -> anyhow::Result<(SceneData, String)> {
         let name = self.scene.as_ref().map(|p| p.to_string_lossy().into_owned());
-        let environment = self.environment();
+        let environment = self.environment.spec();
         let (_, mut scene, hash) =
             smlt::scenes::open_with_environment(name.as_deref(), 1, environment.as_ref())?;
         scene.select_view(self.view)?;

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use super::args::{positive_f64, ChainArgs, DeviceArgs, PathArgs};
+use super::args::{positive_f64, ChainArgs, DeviceArgs, EnvironmentArgs, PathArgs};
 use smlt::render::{Integrator, Method, Settings};
 
 /// A scene with an optional view: `atrium:2`.
@@ -51,6 +51,9 @@ pub struct Args {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256))]
     pub tessellation: u32,
     #[command(flatten)]
+    #[allow(missing_docs)] // flattened: documented on EnvironmentArgs (every scene is lit by it)
+    pub environment: EnvironmentArgs,
+    #[command(flatten)]
     #[allow(missing_docs)] // flattened: documented on DeviceArgs
     pub device: DeviceArgs,
     /// Independent runs of every method (seeds seed, seed + 1, …): tables and plots show the
@@ -90,6 +93,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         reference_spp: a.reference_spp,
         candidates: a.candidates,
         tessellation: a.tessellation,
+        environment: a.environment.spec(),
         threads: device.threads,
         repeats: a.repeats,
         reference: a.reference.clone(),

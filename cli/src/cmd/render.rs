@@ -186,7 +186,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         settings.height,
         settings.method()
     );
-    if let Some(env) = a.scene.environment() {
+    if let Some(env) = a.scene.environment.spec() {
         let e = &scene.environment;
         println!("lit by environment {} ({} × {} texels)", env.describe(), e.width, e.height);
     }
