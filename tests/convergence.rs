@@ -199,12 +199,7 @@ fn large_steps_only_and_the_default_schedule_agree() {
     let default = replica_blocks(&scene, &s, 10, 6);
     chains(&mut s).mutation.p_large = 1.0;
     let independent = replica_blocks(&scene, &s, 20, 6);
-    let mut worst = 0.0f64;
-    for b in 0..16 {
-        let (ma, mb, z) = stats::z_score(&default, &independent, b);
-        worst = worst.max(z.abs());
-        assert!(z.abs() < 5.0, "block {b}: {ma:.5} vs {mb:.5} (z = {z:.2})");
-    }
+    let worst = stats::assert_blocks_agree("default vs large steps only", &default, &independent);
     println!("default vs large steps only: worst block |z| = {worst:.2}");
 }
 
@@ -229,12 +224,7 @@ fn every_method_converges_to_the_same_image() {
         }
         let method = if s.pixel_importance() || name == "pt" { name } else { "naive (luminance target)" };
         let runs = replica_blocks(&scene, &s, 40, 5);
-        let mut worst = 0.0f64;
-        for b in 0..16 {
-            let (ma, mb, z) = stats::z_score(&naive, &runs, b);
-            worst = worst.max(z.abs());
-            assert!(z.abs() < 5.0, "{method} block {b}: naive {ma:.5}, {method} {mb:.5} (z = {z:.2})");
-        }
+        let worst = stats::assert_blocks_agree(&format!("naive vs {method}"), &naive, &runs);
         println!("{method} vs naive: worst block |z| = {worst:.2}");
     }
 }
@@ -450,12 +440,7 @@ fn every_method_converges_to_the_same_image_under_punctual_lights() {
         let mut s = settings(32, 3, 256.0, 4096, 1 << 17);
         use_method(&mut s, name);
         let runs = replica_blocks(&scene, &s, 40, 5);
-        let mut worst = 0.0f64;
-        for b in 0..16 {
-            let (ma, mb, z) = stats::z_score(&naive, &runs, b);
-            worst = worst.max(z.abs());
-            assert!(z.abs() < 5.0, "{name} block {b}: naive {ma:.5}, {name} {mb:.5} (z = {z:.2})");
-        }
+        let worst = stats::assert_blocks_agree(&format!("lamps: naive vs {name}"), &naive, &runs);
         println!("lamps: {name} vs naive: worst block |z| = {worst:.2}");
     }
 }
@@ -519,15 +504,7 @@ fn every_method_converges_to_the_same_image_through_glass() {
             let mut s = settings(32, 6, 256.0, 4096, 1 << 17);
             use_method(&mut s, name);
             let runs = replica_blocks(&scene, &s, 80, 5);
-            let mut worst = 0.0f64;
-            for b in 0..16 {
-                let (ma, mb, z) = stats::z_score(&naive, &runs, b);
-                worst = worst.max(z.abs());
-                assert!(
-                    z.abs() < 5.0,
-                    "area {area}, {name} block {b}: naive {ma:.5}, {name} {mb:.5} (z = {z:.2})"
-                );
-            }
+            let worst = stats::assert_blocks_agree(&format!("area {area}: naive vs {name}"), &naive, &runs);
             println!("glass caustic (area lamp: {area}): {name} vs naive: worst block |z| = {worst:.2}");
         }
     }
@@ -546,15 +523,8 @@ fn every_method_converges_to_the_same_image_through_rough_glass() {
             let mut s = settings(32, 6, 256.0, 4096, 1 << 17);
             use_method(&mut s, name);
             let runs = replica_blocks(&scene, &s, 100, 5);
-            let mut worst = 0.0f64;
-            for b in 0..16 {
-                let (ma, mb, z) = stats::z_score(&naive, &runs, b);
-                worst = worst.max(z.abs());
-                assert!(
-                    z.abs() < 5.0,
-                    "roughness {roughness}, {name} block {b}: naive {ma:.5}, {name} {mb:.5} (z = {z:.2})"
-                );
-            }
+            let what = format!("roughness {roughness}: naive vs {name}");
+            let worst = stats::assert_blocks_agree(&what, &naive, &runs);
             println!("rough glass (roughness {roughness}): {name} vs naive: worst block |z| = {worst:.2}");
         }
     }

@@ -114,12 +114,7 @@ fn every_method_converges_to_the_same_image_under_the_sky() {
     let naive = replica_blocks(&scene, &settings(32, 5, 256.0, "naive", 1), 60, 5);
     for name in ["pt", "s3", "rc4", "path-naive"] {
         let runs = replica_blocks(&scene, &settings(32, 5, 256.0, name, 1), 70, 5);
-        let mut worst = 0.0f64;
-        for b in 0..16 {
-            let (ma, mb, z) = stats::z_score(&naive, &runs, b);
-            worst = worst.max(z.abs());
-            assert!(z.abs() < 5.0, "{name} block {b}: naive {ma:.5}, {name} {mb:.5} (z = {z:.2})");
-        }
+        let worst = stats::assert_blocks_agree(&format!("sky: naive vs {name}"), &naive, &runs);
         println!("sky: {name} vs naive: worst block |z| = {worst:.2}");
     }
 }

@@ -31,3 +31,16 @@ pub fn z_score(a: &[Vec<f64>], b: &[Vec<f64>], block: usize) -> (f64, f64, f64) 
     let se = (va / a.len() as f64 + vb / b.len() as f64).sqrt().max(1e-9);
     (ma, mb, (ma - mb) / se)
 }
+
+/// Asserts that every block of `b` agrees with `a` (replicas' block means) within 5 standard
+/// errors of the difference, naming the comparison `what` where one does not; returns the
+/// worst |z|.
+pub fn assert_blocks_agree(what: &str, a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    let mut worst = 0.0f64;
+    for block in 0..a[0].len() {
+        let (ma, mb, z) = z_score(a, b, block);
+        worst = worst.max(z.abs());
+        assert!(z.abs() < 5.0, "{what}, block {block}: {ma:.5} vs {mb:.5} (z = {z:.2})");
+    }
+    worst
+}
