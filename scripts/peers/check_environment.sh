@@ -13,9 +13,10 @@ size=(--width 128 --height 96 --max-depth 12)
 mkdir -p "$out"
 cd "$out"
 "$smlt" scene caustic --out caustic.gltf >/dev/null
-python3 - <<'PY'
+PYTHONPATH="$root/scripts/peers" python3 - <<'PY'
 import json
 
+import gltf_scene
 import numpy as np
 import OpenEXR
 
@@ -35,12 +36,7 @@ sky += (400.0 * np.exp(-d2 / (2 * 8.0 ** 2)))[..., None] * np.array([1.0, 0.9, 0
 header = OpenEXR.Header(w, h)
 OpenEXR.OutputFile("sky.exr", header).writePixels({c: sky[..., i].astype(np.float32).tobytes() for i, c in enumerate("RGB")})
 
-doc = json.load(open("caustic.gltf"))
-for node in doc["nodes"]:
-    node.pop("extensions", None)
-doc.pop("extensions", None)
-doc["extensionsUsed"] = [e for e in doc["extensionsUsed"] if e != "KHR_lights_punctual"]
-doc.pop("extensionsRequired", None)
+doc = gltf_scene.without_punctual_lights(json.load(open("caustic.gltf")))
 json.dump(doc, open("sky_caustic.gltf", "w"))
 PY
 python3 - <<'PY'

@@ -15,14 +15,12 @@ mkdir -p "$out"
 cd "$out"
 "$smlt" scene caustic --out caustic.gltf >/dev/null
 # The scene without punctual lights, and one file per glass material with the other glass gone.
-python3 - <<'PY'
+PYTHONPATH="$root/scripts/peers" python3 - <<'PY'
 import json
-doc = json.load(open("caustic.gltf"))
-for node in doc["nodes"]:
-    node.pop("extensions", None)
-doc.pop("extensions", None)
-doc["extensionsUsed"] = [e for e in doc["extensionsUsed"] if e != "KHR_lights_punctual"]
-doc.pop("extensionsRequired", None)
+
+import gltf_scene
+
+doc = gltf_scene.without_punctual_lights(json.load(open("caustic.gltf")))
 json.dump(doc, open("glass_all.gltf", "w"))
 glass = [i for i, m in enumerate(doc["materials"]) if "KHR_materials_transmission" in m.get("extensions", {})]
 for g in glass:
