@@ -406,6 +406,13 @@ fn punctual_light_passes_agree_on_device_and_cpu() {
     }
 }
 
+/// Naive and s3 over the multiplexed estimator and naive over the path estimator on `scene`.
+fn difftest_both_estimators(gpu: Gpu, scene: &SceneData) {
+    difftest_scene(gpu.clone(), Schedule::Tree(1), render::Estimator::Multiplexed, scene);
+    difftest_scene(gpu.clone(), Schedule::Tree(3), render::Estimator::Multiplexed, scene);
+    difftest_scene(gpu, Schedule::Tree(1), render::Estimator::Path, scene);
+}
+
 /// Through glass (`caustic`: a clear solid ball, an absorbing amber block, a thin pane, under a
 /// spot and an area lamp): the dielectric's delta lobes in both subpaths, Beer–Lambert inside
 /// the solids, the delta vertices' weights, and the path estimator through the same glass.
@@ -414,9 +421,7 @@ fn glass_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("glass_passes_agree_on_device_and_cpu") {
         let scene =
             SceneData::from_slice(include_bytes!("../scenes/caustic.gltf"), "caustic").expect("caustic");
-        difftest_scene(gpu.clone(), Schedule::Tree(1), render::Estimator::Multiplexed, &scene);
-        difftest_scene(gpu.clone(), Schedule::Tree(3), render::Estimator::Multiplexed, &scene);
-        difftest_scene(gpu, Schedule::Tree(1), render::Estimator::Path, &scene);
+        difftest_both_estimators(gpu, &scene);
     }
 }
 
@@ -427,9 +432,7 @@ fn glass_passes_agree_on_device_and_cpu() {
 fn environment_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("environment_passes_agree_on_device_and_cpu") {
         let scene = common::scenes::sky_scene();
-        difftest_scene(gpu.clone(), Schedule::Tree(1), render::Estimator::Multiplexed, &scene);
-        difftest_scene(gpu.clone(), Schedule::Tree(3), render::Estimator::Multiplexed, &scene);
-        difftest_scene(gpu, Schedule::Tree(1), render::Estimator::Path, &scene);
+        difftest_both_estimators(gpu, &scene);
     }
 }
 

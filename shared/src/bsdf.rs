@@ -170,6 +170,14 @@ fn to_local(ns: Vec3, w: Vec3) -> Vec3 {
     Vec3::new(w.dot(t), w.dot(b), w.dot(ns))
 }
 
+/// The world direction of `v` given in the frame whose z axis is the unit `ns` ([`to_local`]'s
+/// inverse).
+#[inline]
+fn from_local(ns: Vec3, v: Vec3) -> Vec3 {
+    let (t, b) = orthonormal_basis(ns);
+    (t * v.x + b * v.y + ns * v.z).normalize()
+}
+
 /// The probability with which a rough dielectric's sample reflects, for wo at cosine `cos_o`
 /// from the facing normal and relative index `eta`: the macro Fresnel factor within [0.1, 0.9].
 #[inline]
@@ -401,14 +409,12 @@ fn dielectric_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool) -
         let p_r = reflection_probability(ns.dot(wo), eta);
         let reflects = v < p_r;
         let w = if reflects { v / p_r } else { (v - p_r) / (1.0 - p_r) };
-        let (tb, bb) = orthonormal_basis(ns);
-        let wo_local = Vec3::new(wo.dot(tb), wo.dot(bb), wo.dot(ns));
         let ml = crate::microfacet::sample_visible_normal(
             m.alpha,
-            wo_local,
+            to_local(ns, wo),
             Vec2::new(w.min(1.0 - f32::EPSILON), u.y),
         );
-        let micro = (tb * ml.x + bb * ml.y + ns * ml.z).normalize();
+        let micro = from_local(ns, ml);
         let wi = if reflects {
             reflect(wo, micro)
         } else {

@@ -15,10 +15,10 @@
 //! **Densities.** A texel of the w × h image covers (2π/w)(π/h) in (φ, θ), so the solid-angle
 //! density of direction d is `p_uv(u, v) / (2π² sin θ)` ([`Environment::pdf`]).
 //!
-//! **Light subpaths** leave it as they leave a directional light (`crate::punctual`): a
+//! **Light subpaths** leave it as they leave a directional light (`crate::distant`): a
 //! direction from the distribution, then a uniform point on the disk of the scene's bounding
-//! sphere perpendicular to it, on the sphere's far side from where the light comes
-//! ([`Environment::sample_origin`]); its first vertex's density is the disk's, projected.
+//! sphere perpendicular to it ([`Environment::sample_origin`]); its first vertex's density is
+//! the disk's, projected.
 //!
 //! **The buffer** (`environment_map`): per texel, row after row from the top, its rgb radiance
 //! (the strength applied) and its row's running CDF (4 floats); then the marginal CDF over the
@@ -30,9 +30,8 @@ use spirv_std::num_traits::Float;
 use core::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
-use crate::bsdf::orthonormal_basis;
 use crate::color::luminance;
-use crate::punctual::uniform_disk;
+use crate::distant;
 
 /// The environment light's description (uploaded to the device as it is; its texels and CDFs
 /// are in the `environment_map` buffer, see the module doc).
@@ -220,27 +219,24 @@ impl Environment {
     }
 
     /// The origin of a light subpath arriving along the unit direction `travel` (−wi) for `u`
-    /// ∈ [0,1)²: a uniform point on the disk of the bounding sphere's radius perpendicular to
-    /// it, on the sphere's side the light comes from; area density [`Self::pdf_origin`].
+    /// ∈ [0,1)²: a point on the bounding sphere's disk (`crate::distant`), area density
+    /// [`Self::pdf_origin`].
     #[inline]
     pub fn sample_origin(&self, travel: Vec3, u: Vec2) -> Vec3 {
-        let (t, b) = orthonormal_basis(travel);
-        let q = uniform_disk(u) * self.radius;
-        Vec3::from_array(self.centre) - travel * self.radius + t * q.x + b * q.y
+        distant::disk_origin(Vec3::from_array(self.centre), self.radius, travel, u)
     }
 
     /// The area density of [`Self::sample_origin`] on its disk, 1 / (π r²).
     #[inline]
     pub fn pdf_origin(&self) -> f32 {
-        1.0 / (PI * self.radius * self.radius)
+        distant::disk_pdf(self.radius)
     }
 
     /// Where a shadow ray from `p` towards the environment along `wi` ends: a point outside
     /// the bounding sphere.
     #[inline]
     pub fn beyond(&self, p: Vec3, wi: Vec3) -> Vec3 {
-        let reach = 2.0 * self.radius + (p - Vec3::from_array(self.centre)).length();
-        p + wi * reach
+        distant::beyond(Vec3::from_array(self.centre), self.radius, p, wi)
     }
 }
 

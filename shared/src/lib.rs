@@ -12,7 +12,7 @@
 //! - [`tree`]: the speculative mutation tree (the paper's §4, Eq. 2 and Eq. 3 generalised);
 //! - [`reject_chain`]: the reject chain of Byrd et al. (the paper's §3.3);
 //! - [`layout`]: SoA indexing and the packed `float4` contribution;
-//! - [`camera`], [`bsdf`] (with [`microfacet`]'s GGX), [`light`], [`punctual`], [`environment`],
+//! - [`camera`], [`bsdf`] (with [`microfacet`]'s GGX), [`light`], [`punctual`], [`environment`] (both from outside the scene: [`distant`]),
 //!   [`triangle`]: the scene primitives, and
 //!   [`color`]'s luminance;
 //! - [`params`]: what every dispatch of the chains' stages knows;
@@ -33,6 +33,7 @@ pub mod camera;
 pub mod color;
 pub mod cwbvh;
 pub mod discrete;
+pub mod distant;
 pub mod environment;
 pub mod layout;
 pub mod light;

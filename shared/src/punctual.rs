@@ -125,14 +125,6 @@ pub fn uniform_cone(axis: Vec3, cos_max: f32, u: Vec2) -> Vec3 {
     (t * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + axis * cos_t).normalize()
 }
 
-/// A uniform point on the unit disk for `u` ∈ [0,1)², density 1/π.
-#[inline]
-pub fn uniform_disk(u: Vec2) -> Vec2 {
-    let r = u.x.sqrt();
-    let phi = 2.0 * PI * u.y;
-    Vec2::new(r * phi.cos(), r * phi.sin())
-}
-
 impl PunctualLight {
     /// A point light at `position` of radiant intensity `intensity` (W/sr).
     pub fn point(position: Vec3, intensity: Vec3) -> Self {
@@ -205,9 +197,8 @@ impl PunctualLight {
         let centre = Vec3::from_array(self.position);
         if self.kind == DIRECTIONAL {
             let wi = -self.axis();
-            // From inside the bounding sphere, any segment of length 2r + |p − c| leaves it.
-            let reach = 2.0 * self.radius + (p - centre).length();
-            Incident { wi, from: p + wi * reach, radiance: Vec3::from_array(self.intensity) }
+            let from = crate::distant::beyond(centre, self.radius, p, wi);
+            Incident { wi, from, radiance: Vec3::from_array(self.intensity) }
         } else {
             let to = centre - p;
             let d2 = to.length_squared();
@@ -226,10 +217,7 @@ impl PunctualLight {
     pub fn sample_origin(&self, u: Vec2) -> (Vec3, f32) {
         let centre = Vec3::from_array(self.position);
         if self.kind == DIRECTIONAL {
-            let d = self.axis();
-            let (t, b) = orthonormal_basis(d);
-            let q = uniform_disk(u) * self.radius;
-            (centre - d * self.radius + t * q.x + b * q.y, self.pdf_origin())
+            (crate::distant::disk_origin(centre, self.radius, self.axis(), u), self.pdf_origin())
         } else {
             (centre, 1.0)
         }
@@ -239,7 +227,7 @@ impl PunctualLight {
     #[inline]
     pub fn pdf_origin(&self) -> f32 {
         if self.kind == DIRECTIONAL {
-            1.0 / (PI * self.radius * self.radius)
+            crate::distant::disk_pdf(self.radius)
         } else {
             1.0
         }

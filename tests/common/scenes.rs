@@ -60,6 +60,16 @@ pub fn glass_furnace(e: f32, rho: f32) -> SceneData {
     SceneData::from_slice(b.to_json().as_bytes(), "glass furnace").expect("glass furnace scene")
 }
 
+/// The glass scenes' stage: a 4 m square grey floor at y = 0 and a warm wall at its back
+/// (z = −2) of `height`; their materials are the document's first two.
+fn floor_and_wall(b: &mut GltfBuilder, height: f32) {
+    let floor = b.material("floor", [0.6; 3], [0.0; 3], 1.0, None);
+    let wall = b.material("wall", [0.5, 0.45, 0.4], [0.0; 3], 1.0, None);
+    let v = Vec3::new;
+    b.quad(floor, [v(-2., 0., 2.), v(2., 0., 2.), v(2., 0., -2.), v(-2., 0., -2.)]);
+    b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., height, -2.), v(-2., height, -2.)]);
+}
+
 /// A solid glass ball on a floor before a wall, lit from above by a point lamp (`area` false:
 /// its caustic under the ball is light no path tracer can find, L S S D E from a delta) or by
 /// an area lamp (`area` true: the path tracer's BSDF samples reach it through the glass; a
@@ -68,12 +78,9 @@ pub fn glass_furnace(e: f32, rho: f32) -> SceneData {
 #[allow(dead_code)]
 pub fn glass_caustic(area: bool) -> SceneData {
     let mut b = GltfBuilder::new();
-    let floor = b.material("floor", [0.6; 3], [0.0; 3], 1.0, None);
-    let wall = b.material("wall", [0.5, 0.45, 0.4], [0.0; 3], 1.0, None);
+    floor_and_wall(&mut b, 2.0);
     let glass = b.glass("glass", [0.95, 0.97, 1.0], 1.5, true);
     let v = Vec3::new;
-    b.quad(floor, [v(-2., 0., 2.), v(2., 0., 2.), v(2., 0., -2.), v(-2., 0., -2.)]);
-    b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 2., -2.), v(-2., 2., -2.)]);
     b.sphere(glass, v(0.0, 0.5, -0.5), 0.5, 10);
     if area {
         let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 8.0, None);
@@ -99,13 +106,10 @@ pub fn glass_caustic(area: bool) -> SceneData {
 #[allow(dead_code)]
 pub fn rough_glass_caustic(roughness: f32) -> SceneData {
     let mut b = GltfBuilder::new();
-    let floor = b.material("floor", [0.6; 3], [0.0; 3], 1.0, None);
-    let wall = b.material("wall", [0.5, 0.45, 0.4], [0.0; 3], 1.0, None);
+    floor_and_wall(&mut b, 2.0);
     let glass = b.glass("frosted", [0.95, 0.97, 1.0], 1.5, true);
     b.roughness(glass, roughness);
     let v = Vec3::new;
-    b.quad(floor, [v(-2., 0., 2.), v(2., 0., 2.), v(2., 0., -2.), v(-2., 0., -2.)]);
-    b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 2., -2.), v(-2., 2., -2.)]);
     b.sphere(glass, v(0.0, 0.5, -0.5), 0.5, 10);
     b.point_light(v(0.3, 2.0, -0.5), [1.0; 3], 2000.0);
     b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.3, -0.5), Vec3::Y, 45f32.to_radians());
@@ -178,14 +182,11 @@ pub fn environment_furnace(rho: f32, glass: bool, fill: bool) -> SceneData {
 #[allow(dead_code)]
 pub fn sky_scene() -> SceneData {
     let mut b = GltfBuilder::new();
-    let floor = b.material("floor", [0.6; 3], [0.0; 3], 1.0, None);
-    let wall = b.material("wall", [0.5, 0.45, 0.4], [0.0; 3], 1.0, None);
+    floor_and_wall(&mut b, 1.2);
     let block = b.material("block", [0.3, 0.5, 0.7], [0.0; 3], 1.0, None);
     let glass = b.glass("glass", [0.95, 0.97, 1.0], 1.5, true);
     let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 6.0, None);
     let v = Vec3::new;
-    b.quad(floor, [v(-2., 0., 2.), v(2., 0., 2.), v(2., 0., -2.), v(-2., 0., -2.)]);
-    b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 1.2, -2.), v(-2., 1.2, -2.)]);
     b.cuboid(block, v(0.9, 0.3, -0.6), v(0.3, 0.3, 0.3), 0.4);
     b.sphere(glass, v(-0.4, 0.45, -0.2), 0.45, 10);
     let frosted = b.glass("frosted", [0.9, 0.95, 1.0], 1.5, true);

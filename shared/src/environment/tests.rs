@@ -161,23 +161,3 @@ fn a_constant_environment_is_the_same_everywhere() {
     let exact = 4.0 * PI as f64 * luminance(Vec3::from_array(c)) as f64;
     assert!((env.luminance_integral() / exact - 1.0).abs() < 1e-3);
 }
-
-/// Light subpaths start on the disk of the bounding sphere on the light's side, at the disk's
-/// density, and every shadow ray's far end is outside the sphere.
-#[test]
-fn origins_lie_on_the_disk_facing_the_light() {
-    let mut sky = sky(0.0);
-    sky.environment.centre = [1.0, 2.0, 3.0];
-    sky.environment.radius = 2.5;
-    let e = sky.environment;
-    let c = Vec3::from_array(e.centre);
-    let travel = Vec3::new(0.3, -1.0, 0.2).normalize();
-    for i in 0..1000 {
-        let o = e.sample_origin(travel, u2(i, 17));
-        assert!(((o - c).dot(travel) + e.radius).abs() < 1e-4, "on the plane one radius up-light");
-        assert!((o - c + travel * e.radius).length() <= e.radius * (1.0 + 1e-5), "within the disk");
-        let p = c + crate::punctual::uniform_sphere(u2(i, 19)) * e.radius;
-        assert!((e.beyond(p, -travel) - c).length() > e.radius);
-    }
-    assert!((e.pdf_origin() * PI * 2.5 * 2.5 - 1.0).abs() < 1e-6);
-}
