@@ -436,6 +436,16 @@ fn environment_passes_agree_on_device_and_cpu() {
     }
 }
 
+/// On glTF's metallic-roughness BRDF (`brdf_scene` under its point lamp: rough metal, a
+/// dielectric layer over diffuse, a smooth mirror's delta lobe): the lobe choice, visible-normal
+/// sampling and the mixture's densities in both subpaths and the path estimator.
+#[test]
+fn brdf_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("brdf_passes_agree_on_device_and_cpu") {
+        difftest_both_estimators(gpu, &common::scenes::brdf_scene(true));
+    }
+}
+
 #[test]
 fn reject_chain_eight_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("reject_chain_eight_passes_agree_on_device_and_cpu") {
@@ -571,7 +581,8 @@ fn every_pass_binds_what_its_kernel_declares() {
 
 /// The path tracer's pass (`--method pt`, and `smlt reference`): one round of 4 samples a
 /// pixel on the device and on the CPU backend, pixel by pixel, on the default scene, on
-/// Sibenik-like geometry (the nave) and under the environment (`sky_scene`): at most 0.5 % of pixel values differ beyond 1e-3 relative
+/// Sibenik-like geometry (the nave), under the environment (`sky_scene`) and on glTF's BRDF
+/// (`brdf_scene`): at most 0.5 % of pixel values differ beyond 1e-3 relative
 /// (a path that grazes an edge may take the other branch).
 #[test]
 fn the_path_tracer_agrees_on_device_and_cpu() {
@@ -583,6 +594,7 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
         ),
         ("nave", SceneData::from_slice(include_bytes!("../scenes/nave.gltf"), "nave").expect("nave")),
         ("sky", common::scenes::sky_scene()),
+        ("brdf", common::scenes::brdf_scene(false)),
     ] {
         let s = Settings {
             width: 24,

@@ -379,7 +379,8 @@ fn glass_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
         "{warnings:?}"
     );
     let (rough_thin, warnings) = rough(json!({"KHR_materials_transmission": {"transmissionFactor": 1.0}}));
-    assert!(rough_thin.alpha == 0.0 && !rough_thin.is_rough_dielectric());
+    // α is the BRDF's too (the material's non-transmissive share).
+    assert!(rough_thin.alpha == 0.25 && !rough_thin.is_rough_dielectric());
     assert!(warnings.iter().any(|w| w.contains("rough transmission is rendered smooth")), "{warnings:?}");
     let zero_thickness = material(json!({
         "KHR_materials_transmission": {"transmissionFactor": 1.0},
@@ -406,4 +407,93 @@ fn glass_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     }
     let special = load(&glass_doc(json!({"KHR_materials_ior": {"ior": 0.0}}))).unwrap_err();
     assert!(matches!(special, SceneError::Unsupported { .. }), "{special}");
+}
+
+/// glTF's metallic-roughness BRDF reads as the spec defines it: metallicFactor and
+/// roughnessFactor default to 1 (a file that omits them is a rough metal), α = roughness²,
+/// `KHR_materials_specular`'s factors (1 and white without it), the ior of `KHR_materials_ior`;
+/// a metal does not transmit; the default material of a primitive without one is the spec's
+/// (white rough metal). Values outside the spec's ranges are refused in one line by their path.
+#[test]
+fn the_metallic_roughness_brdf_reads_as_the_spec_defines_it() {
+    let doc_with = |pbr: Value, extensions: Value| {
+        let mut b = GltfBuilder::new();
+        let lamp = b.material("lamp", [0.5; 3], [1.0; 3], 1.0, None);
+        let surface = b.pbr("surface", [0.9, 0.8, 0.7], 0.0, 0.0);
+        let v = Vec3::new;
+        b.quad(lamp, [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 0.)]);
+        b.quad(surface, [v(0., 0., 1.), v(1., 0., 1.), v(1., 1., 1.), v(0., 1., 1.)]);
+        b.camera(v(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.5);
+        let mut doc: Value = serde_json::from_str(&b.to_json()).unwrap();
+        doc["materials"][1]["pbrMetallicRoughness"] = pbr;
+        doc["materials"][1]["extensions"] = extensions;
+        doc["extensionsUsed"] =
+            json!(["KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_ior"]);
+        doc
+    };
+    let material = |pbr: Value, extensions: Value| {
+        let scene = load(&doc_with(pbr, extensions)).unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        scene.materials[2]
+    };
+    let defaults = material(json!({}), json!({}));
+    assert_eq!(
+        (
+            defaults.albedo,
+            defaults.metallic,
+            defaults.alpha,
+            defaults.specular,
+            defaults.specular_color,
+            defaults.ior
+        ),
+        ([1.0; 3], 1.0, 1.0, 1.0, [1.0; 3], 1.5)
+    );
+    let plastic = material(
+        json!({"baseColorFactor": [0.9, 0.8, 0.7, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5}),
+        json!({"KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [1.0, 0.5, 0.0]}, "KHR_materials_ior": {"ior": 2.0}}),
+    );
+    assert_eq!(
+        (plastic.metallic, plastic.alpha, plastic.specular, plastic.specular_color, plastic.ior),
+        (0.0, 0.25, 0.5, [1.0, 0.5, 0.0], 2.0)
+    );
+    let brdf = plastic.brdf();
+    let f0 = ((2.0f32 - 1.0) / 3.0).powi(2) * 0.5;
+    assert!((brdf.f0 - Vec3::new(f0, f0 * 0.5, 0.0)).abs().max_element() < 1e-6, "{}", brdf.f0);
+    // The project's Lambert materials: specularFactor 0, no metal.
+    let lambert =
+        material(json!({"metallicFactor": 0.0}), json!({"KHR_materials_specular": {"specularFactor": 0.0}}));
+    assert!(lambert.brdf().is_lambertian() && !lambert.has_delta_lobe());
+    // A metal does not transmit; a smooth one is a mirror.
+    let metal_glass = material(
+        json!({"metallicFactor": 0.75, "roughnessFactor": 0.0}),
+        json!({"KHR_materials_transmission": {"transmissionFactor": 1.0}}),
+    );
+    assert_eq!(metal_glass.transmission, 0.25);
+    assert!(material(json!({"roughnessFactor": 0.0}), json!({})).has_delta_lobe());
+    // The default material: a primitive without one.
+    let mut doc = doc_with(json!({}), json!({}));
+    doc["meshes"][1]["primitives"][0].as_object_mut().unwrap().remove("material");
+    let scene = load(&doc).unwrap();
+    let default = scene.materials[scene.triangles.last().unwrap().material as usize];
+    assert_eq!((default.albedo, default.metallic, default.alpha), ([1.0; 3], 1.0, 1.0));
+    for (pbr, ext, what) in [
+        (json!({"metallicFactor": 1.5}), json!({}), "materials[1].pbrMetallicRoughness.metallicFactor"),
+        (json!({"roughnessFactor": -0.1}), json!({}), "materials[1].pbrMetallicRoughness.roughnessFactor"),
+        (
+            json!({}),
+            json!({"KHR_materials_specular": {"specularFactor": 2.0}}),
+            "KHR_materials_specular.specularFactor",
+        ),
+        (
+            json!({}),
+            json!({"KHR_materials_specular": {"specularColorFactor": [1.0, -1.0, 0.0]}}),
+            "KHR_materials_specular.specularColorFactor",
+        ),
+    ] {
+        let err =
+            load(&doc_with(pbr.clone(), ext.clone())).err().unwrap_or_else(|| panic!("{pbr} {ext} loaded"));
+        let line = err.to_string();
+        assert!(matches!(err, SceneError::Malformed { .. }) && line.contains(what), "{line}");
+        assert!(!line.contains('\n'), "{line}");
+    }
 }

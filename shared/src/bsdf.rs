@@ -1,6 +1,8 @@
-//! Materials and their BSDFs — only what our scenes use: Lambertian diffuse, a normalised
-//! Phong lobe, a dielectric (glTF's transmission: glass, thin-walled or solid; smooth, or rough
-//! with a GGX microfacet BSDF), and emission (area lights are emissive triangles).
+//! Materials and their BSDFs — only what glTF scenes use: glTF's metallic-roughness BRDF
+//! (`crate::metallic_roughness`; Lambertian where its dielectric layer is off), a normalised
+//! Phong lobe (the paper's banner), a dielectric (glTF's transmission: glass, thin-walled or
+//! solid; smooth, or rough with a GGX microfacet BSDF), and emission (area lights are emissive
+//! triangles).
 //!
 //! Surfaces are two-sided for scattering: the BSDF works on the side that `wo` lies on, and
 //! `wo` and `wi` on opposite sides give 0 except through a dielectric: a smooth one's delta
@@ -33,33 +35,43 @@ use spirv_std::num_traits::Float;
 use core::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
+use crate::metallic_roughness::{self as brdf, MetallicRoughness};
+
 /// A material (uploaded to the device as it is).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Material {
-    /// Diffuse albedo (Lambert) or Phong reflectance, from glTF `baseColorFactor`; a
-    /// dielectric's transmission tint.
+    /// glTF's base colour (`baseColorFactor`): the diffuse albedo, the metal's reflectance,
+    /// the Phong reflectance, a dielectric's transmission tint.
     pub albedo: [f32; 3],
-    /// Phong exponent; 0 means Lambertian.
+    /// Phong exponent; 0: no Phong lobe (the glTF BRDF).
     pub phong_exponent: f32,
     /// Emitted radiance (glTF `emissiveFactor` × `KHR_materials_emissive_strength`).
     pub emission: [f32; 3],
-    /// The share of the smooth dielectric (`KHR_materials_transmission`'s
-    /// `transmissionFactor`); the rest is Lambertian. 0: no dielectric.
+    /// The share of the dielectric (`KHR_materials_transmission`'s `transmissionFactor`
+    /// × (1 − metallic)); the rest is the glTF BRDF. 0: no dielectric.
     pub transmission: f32,
     /// Beer–Lambert attenuation coefficient inside a solid dielectric, per channel, in 1/m
     /// (`KHR_materials_volume`: −ln(attenuationColor) / attenuationDistance; 0: clear).
     pub attenuation: [f32; 3],
-    /// The dielectric's index of refraction (`KHR_materials_ior`, 1.5 by default).
+    /// The index of refraction (`KHR_materials_ior`, 1.5 by default): the dielectric's, and
+    /// the glTF BRDF's dielectric layer's normal reflectance.
     pub ior: f32,
     /// 1 for a thin-walled dielectric (no `KHR_materials_volume`: light passes without
     /// bending), 0 for the boundary of a solid (the mesh encloses glass).
     pub thin_walled: u32,
-    /// A solid dielectric's GGX roughness α (glTF's roughnessFactor²); below
-    /// [`SMOOTH_ALPHA`] it is smooth (delta lobes).
+    /// The GGX roughness α (glTF's roughnessFactor²) of the BRDF's specular lobe and of a
+    /// solid dielectric; below [`SMOOTH_ALPHA`] they are smooth (delta lobes).
     pub alpha: f32,
-    /// Padding to 64 bytes.
-    pub _pad: [u32; 2],
+    /// glTF's metallicFactor.
+    pub metallic: f32,
+    /// `KHR_materials_specular`'s specularFactor (1 without the extension; 0: no dielectric
+    /// layer, so that a non-metal is exactly Lambertian).
+    pub specular: f32,
+    /// `KHR_materials_specular`'s specularColorFactor.
+    pub specular_color: [f32; 3],
+    /// Padding to 80 bytes.
+    pub _pad: u32,
 }
 
 /// The roughness α below which a dielectric is smooth: a GGX lobe that narrow is a mirror to
@@ -71,6 +83,28 @@ impl Material {
     #[inline]
     pub fn is_emissive(&self) -> bool {
         self.emission[0] > 0.0 || self.emission[1] > 0.0 || self.emission[2] > 0.0
+    }
+
+    /// The glTF BRDF of the material's non-transmissive share.
+    #[inline]
+    pub fn brdf(&self) -> MetallicRoughness {
+        MetallicRoughness::new(
+            Vec3::from_array(self.albedo),
+            self.metallic,
+            self.alpha,
+            self.ior,
+            self.specular,
+            Vec3::from_array(self.specular_color),
+        )
+    }
+
+    /// Whether the material has a delta lobe: a smooth dielectric, or the smooth mirror of the
+    /// glTF BRDF's specular lobe.
+    #[inline]
+    pub fn has_delta_lobe(&self) -> bool {
+        let glass = self.transmission > 0.0 && !self.is_rough_dielectric();
+        let mirror = self.transmission < 1.0 && self.phong_exponent == 0.0 && self.brdf().has_mirror();
+        glass || mirror
     }
 
     /// Whether the material's dielectric share is rough (a solid's, of α ≥ [`SMOOTH_ALPHA`]):
@@ -182,7 +216,7 @@ fn from_local(ns: Vec3, v: Vec3) -> Vec3 {
 /// from the facing normal and relative index `eta`: the macro Fresnel factor within [0.1, 0.9].
 #[inline]
 pub fn reflection_probability(cos_o: f32, eta: f32) -> f32 {
-    fresnel_dielectric(cos_o, eta).clamp(0.1, 0.9)
+    crate::float::clamp(fresnel_dielectric(cos_o, eta), 0.1, 0.9)
 }
 
 /// A micro-normal joining two directions ([`half_vector`]).
@@ -276,26 +310,46 @@ pub fn bsdf_eval(m: &Material, n: Vec3, wo: Vec3, wi: Vec3, radiance: bool) -> V
     if ns.dot(wo) <= 0.0 {
         return Vec3::ZERO;
     }
-    let albedo = Vec3::from_array(m.albedo);
+    let t = m.transmission;
     if m.is_rough_dielectric() {
         let eta = relative_ior(m, n, wo);
         let (f, transmits) =
             rough_dielectric_eval(m.alpha, eta, to_local(ns, wo), to_local(ns, wi), radiance);
-        let tint = if transmits { albedo } else { Vec3::ONE };
-        let diffuse = if ns.dot(wi) > 0.0 { albedo * ((1.0 - m.transmission) / PI) } else { Vec3::ZERO };
-        return tint * (m.transmission * f) + diffuse;
+        let tint = if transmits { Vec3::from_array(m.albedo) } else { Vec3::ONE };
+        return tint * (t * f) + brdf_eval(m, ns, wo, wi) * (1.0 - t);
     }
-    if ns.dot(wi) <= 0.0 {
-        return Vec3::ZERO;
-    }
-    if m.transmission > 0.0 {
-        albedo * ((1.0 - m.transmission) / PI)
+    if t > 0.0 {
+        brdf_eval(m, ns, wo, wi) * (1.0 - t)
     } else if m.phong_exponent > 0.0 {
+        if ns.dot(wi) <= 0.0 {
+            return Vec3::ZERO;
+        }
         let e = m.phong_exponent;
-        albedo * ((e + 2.0) / (2.0 * PI) * phong_lobe(e, reflect(wo, ns), wi))
+        Vec3::from_array(m.albedo) * ((e + 2.0) / (2.0 * PI) * phong_lobe(e, reflect(wo, ns), wi))
     } else {
-        albedo / PI
+        brdf_eval(m, ns, wo, wi)
     }
+}
+
+/// The glTF BRDF's f(wo, wi) for wo on the side of the unit normal `ns`.
+#[inline]
+fn brdf_eval(m: &Material, ns: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
+    let b = m.brdf();
+    if b.is_lambertian() {
+        return if ns.dot(wi) > 0.0 { b.base / PI } else { Vec3::ZERO };
+    }
+    brdf::eval(&b, to_local(ns, wo), to_local(ns, wi))
+}
+
+/// The density of the glTF BRDF's sampling of wi for wo on the side of the unit normal `ns`.
+#[inline]
+fn brdf_pdf(m: &Material, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
+    let b = m.brdf();
+    if b.is_lambertian() {
+        let cos_i = ns.dot(wi);
+        return if cos_i > 0.0 { cos_i / PI } else { 0.0 };
+    }
+    brdf::pdf(&b, to_local(ns, wo), to_local(ns, wi))
 }
 
 /// Solid-angle density with which [`bsdf_sample`] picks `wi` given `wo`.
@@ -304,25 +358,25 @@ pub fn bsdf_eval(m: &Material, n: Vec3, wo: Vec3, wi: Vec3, radiance: bool) -> V
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn bsdf_pdf(m: &Material, n: Vec3, wo: Vec3, wi: Vec3) -> f32 {
     let ns = facing(n, wo);
-    let cos_i = ns.dot(wi);
     if ns.dot(wo) <= 0.0 {
         return 0.0;
     }
+    let t = m.transmission;
     if m.is_rough_dielectric() {
         let eta = relative_ior(m, n, wo);
-        let rough = m.transmission * rough_dielectric_pdf(m.alpha, eta, to_local(ns, wo), to_local(ns, wi));
-        return rough + if cos_i > 0.0 { (1.0 - m.transmission) * cos_i / PI } else { 0.0 };
+        let rough = t * rough_dielectric_pdf(m.alpha, eta, to_local(ns, wo), to_local(ns, wi));
+        return rough + (1.0 - t) * brdf_pdf(m, ns, wo, wi);
     }
-    if cos_i <= 0.0 {
-        return 0.0;
-    }
-    if m.transmission > 0.0 {
-        (1.0 - m.transmission) * cos_i / PI
+    if t > 0.0 {
+        (1.0 - t) * brdf_pdf(m, ns, wo, wi)
     } else if m.phong_exponent > 0.0 {
+        if ns.dot(wi) <= 0.0 {
+            return 0.0;
+        }
         let e = m.phong_exponent;
         (e + 1.0) / (2.0 * PI) * phong_lobe(e, reflect(wo, ns), wi)
     } else {
-        cos_i / PI
+        brdf_pdf(m, ns, wo, wi)
     }
 }
 
@@ -395,12 +449,8 @@ fn dielectric_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool) -
     let ns = facing(n, wo);
     let t = m.transmission;
     if u.x >= t {
-        let wi = cosine_hemisphere(ns, Vec2::new(((u.x - t) / (1.0 - t)).min(1.0 - f32::EPSILON), u.y));
-        let pdf = bsdf_pdf(m, n, wo, wi);
-        if !(pdf > 0.0) {
-            return BsdfSample::default();
-        }
-        return BsdfSample { wi, f: bsdf_eval(m, n, wo, wi, radiance), pdf, delta: false };
+        let v = Vec2::new(((u.x - t) / (1.0 - t)).min(1.0 - f32::EPSILON), u.y);
+        return brdf_sample(m, n, wo, v, radiance, 1.0 - t);
     }
     let v = u.x / t;
     let eta = relative_ior(m, n, wo);
@@ -468,17 +518,47 @@ pub fn bsdf_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> 
     if m.transmission > 0.0 {
         return dielectric_sample(m, n, wo, u, radiance);
     }
-    let wi = if m.phong_exponent > 0.0 {
-        // cos α = (1 − u)^(1/(n+1)), computed as exp(x) with 1 − cos α = −expm1(x).
-        let x = (1.0 - u.x).ln() / (m.phong_exponent + 1.0);
-        let cos_a = x.exp();
-        let sin_a = (one_minus_exp(x) * (1.0 + cos_a)).max(0.0).sqrt();
-        let phi = 2.0 * PI * u.y;
-        let r = reflect(wo, ns);
-        let (t, b) = orthonormal_basis(r);
-        (t * (sin_a * phi.cos()) + b * (sin_a * phi.sin()) + r * cos_a).normalize()
-    } else {
+    if m.phong_exponent <= 0.0 {
+        return brdf_sample(m, n, wo, u, radiance, 1.0);
+    }
+    // cos α = (1 − u)^(1/(n+1)), computed as exp(x) with 1 − cos α = −expm1(x).
+    let x = (1.0 - u.x).ln() / (m.phong_exponent + 1.0);
+    let cos_a = x.exp();
+    let sin_a = (one_minus_exp(x) * (1.0 + cos_a)).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    let r = reflect(wo, ns);
+    let (t, b) = orthonormal_basis(r);
+    let wi = (t * (sin_a * phi.cos()) + b * (sin_a * phi.sin()) + r * cos_a).normalize();
+    let pdf = bsdf_pdf(m, n, wo, wi);
+    if !(pdf > 0.0) {
+        return BsdfSample::default();
+    }
+    BsdfSample { wi, f: bsdf_eval(m, n, wo, wi, radiance), pdf, delta: false }
+}
+
+/// Samples the glTF BRDF of `m` (wo on the side it faces of `n`), which is the `share` of the
+/// material: its mirror as a delta of that share's probability, any other direction with the
+/// whole material's f and density.
+#[inline]
+fn brdf_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool, share: f32) -> BsdfSample {
+    let ns = facing(n, wo);
+    let b = m.brdf();
+    let wi = if b.is_lambertian() {
         cosine_hemisphere(ns, u)
+    } else {
+        let s = brdf::sample(&b, to_local(ns, wo), u);
+        if !s.found {
+            return BsdfSample::default();
+        }
+        let wi = from_local(ns, s.wi);
+        if s.delta {
+            let pdf = s.pdf * share;
+            if !(pdf > 0.0 && ns.dot(wi) > 0.0) {
+                return BsdfSample::default();
+            }
+            return BsdfSample { wi, f: s.f * share, pdf, delta: true };
+        }
+        wi
     };
     let pdf = bsdf_pdf(m, n, wo, wi);
     if !(pdf > 0.0) {

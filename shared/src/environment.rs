@@ -97,7 +97,7 @@ pub fn direction_to_uv(d: Vec3) -> Vec2 {
     if u < 0.0 {
         u += 1.0;
     }
-    Vec2::new(u, d.y.clamp(-1.0, 1.0).acos() / PI)
+    Vec2::new(u, crate::float::clamp(d.y, -1.0, 1.0).acos() / PI)
 }
 
 /// The unit direction in the map's frame of image coordinates (u, v).
@@ -125,7 +125,8 @@ fn invert_cdf(buffer: &[f32], offset: u32, stride: u32, n: u32, u: f32) -> (u32,
     }
     let below = if lo > 0 { buffer[(offset + (lo - 1) * stride) as usize] } else { 0.0 };
     let above = buffer[(offset + lo * stride) as usize];
-    let within = if above > below { ((u - below) / (above - below)).clamp(0.0, 0.99999994) } else { 0.5 };
+    let within =
+        if above > below { crate::float::clamp((u - below) / (above - below), 0.0, 0.99999994) } else { 0.5 };
     (lo, within)
 }
 

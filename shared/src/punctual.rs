@@ -101,7 +101,7 @@ pub struct EmittedDirection {
 #[inline]
 pub fn spot_falloff(cos_inner: f32, cos_outer: f32, cos_theta: f32) -> f32 {
     let scale = 1.0 / (cos_inner - cos_outer).max(0.001);
-    let t = ((cos_theta - cos_outer) * scale).clamp(0.0, 1.0);
+    let t = crate::float::clamp((cos_theta - cos_outer) * scale, 0.0, 1.0);
     t * t
 }
 

@@ -89,9 +89,10 @@ pub fn glass_caustic(area: bool) -> SceneData {
     } else {
         b.point_light(v(0.0, 2.0, -0.5), [1.0; 3], 2000.0);
     }
-    // A solid block that is partly glass (transmissionFactor 0.5, the rest Lambert): its
-    // vertices are left by a delta lobe or by the diffuse one, and a connection evaluates the
-    // diffuse one at a vertex the walk left by glass (the weights' mixed case).
+    // A solid block that is partly glass (transmissionFactor 0.5, the rest glTF's BRDF: a
+    // smooth dielectric layer over diffuse): its vertices are left by a delta lobe or by the
+    // diffuse one, and a connection evaluates the diffuse one at a vertex the walk left by glass
+    // (the weights' mixed case).
     let mixed = b.glass("half glass", [0.9, 0.9, 0.8], 1.5, true);
     b.cuboid(mixed, v(0.9, 0.25, -0.2), v(0.25, 0.25, 0.25), 0.4);
     b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.3, -0.5), Vec3::Y, 45f32.to_radians());
@@ -198,4 +199,33 @@ pub fn sky_scene() -> SceneData {
     b.camera(v(0.0, 1.3, 2.6), v(0.0, 0.4, -0.5), Vec3::Y, 50f32.to_radians());
     SceneData::from_slice_with_environment(b.to_json().as_bytes(), "sky scene", Some(sky_map(30.0)))
         .expect("sky scene")
+}
+
+/// glTF's metallic-roughness BRDF on every kind of lobe, on a Lambert floor before a wall: a
+/// rough gold ball (metal, roughness 0.35), a red plastic block (the dielectric layer over a
+/// diffuse base, roughness 0.3), a smooth mirror slab (metal, roughness 0: a delta lobe) and a
+/// rough grey block with glTF's defaults (metal, roughness 1); lit by an area lamp, or with
+/// `point` by a point lamp (whose light off the mirror no path tracer renders).
+#[allow(dead_code)]
+pub fn brdf_scene(point: bool) -> SceneData {
+    let mut b = GltfBuilder::new();
+    floor_and_wall(&mut b, 2.0);
+    let v = Vec3::new;
+    let gold = b.pbr("gold", [1.0, 0.78, 0.34], 1.0, 0.35);
+    b.sphere(gold, v(-0.6, 0.4, -0.6), 0.4, 10);
+    let plastic = b.pbr("red plastic", [0.7, 0.1, 0.08], 0.0, 0.3);
+    b.cuboid(plastic, v(0.5, 0.25, -0.3), v(0.25, 0.25, 0.25), 0.5);
+    let mirror = b.pbr("mirror", [0.95, 0.95, 0.95], 1.0, 0.0);
+    b.cuboid(mirror, v(0.2, 0.5, -1.5), v(0.5, 0.45, 0.03), 0.2);
+    let rough = b.pbr("rough default", [0.6, 0.6, 0.6], 1.0, 1.0);
+    b.cuboid(rough, v(-0.9, 0.2, 0.3), v(0.2, 0.2, 0.2), -0.3);
+    if point {
+        b.point_light(v(0.4, 2.0, 0.2), [1.0; 3], 2000.0);
+    } else {
+        let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 8.0, None);
+        let q = [v(-0.4, 2.0, -0.6), v(0.4, 2.0, -0.6), v(0.4, 2.0, 0.2), v(-0.4, 2.0, 0.2)];
+        b.quad(lamp, smlt::scenes::facing(q, -Vec3::Y));
+    }
+    b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.35, -0.5), Vec3::Y, 50f32.to_radians());
+    SceneData::from_slice(b.to_json().as_bytes(), "brdf scene").expect("brdf scene")
 }

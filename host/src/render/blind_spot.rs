@@ -1,8 +1,9 @@
 //! The light a method cannot render in a scene. The path tracer and the path estimator
 //! build every path from the camera, joining it to a light only by next-event estimation (a
 //! shadow ray from a diffuse vertex) or by hitting an emitter: a path that reaches a punctual
-//! light (a delta position or direction, which no ray hits) through a smooth dielectric (a
-//! delta lobe, which no shadow ray passes) — L S+ D … E, a lamp's caustic through glass — has
+//! light (a delta position or direction, which no ray hits) through a smooth dielectric or off
+//! a smooth mirror (a delta lobe, which no shadow ray follows) — L S+ D … E, a lamp's caustic
+//! through glass — has
 //! no technique among theirs, so its light is missing from their images however long they
 //! run. The multiplexed estimator's light subpaths start at the lamp and render it.
 
@@ -14,14 +15,12 @@ use crate::scene::SceneData;
 pub fn blind_spot(method: Method, scene: &SceneData) -> Option<String> {
     let camera_only =
         matches!(method, Method::PathTracer | Method::Metropolis { estimator: Estimator::Path, .. });
-    let glass = scene.triangles.iter().any(|t| {
-        let m = &scene.materials[t.material as usize];
-        m.transmission > 0.0 && !m.is_rough_dielectric()
-    });
-    (camera_only && glass && !scene.punctual.is_empty()).then(|| {
+    let delta = scene.triangles.iter().any(|t| scene.materials[t.material as usize].has_delta_lobe());
+    (camera_only && delta && !scene.punctual.is_empty()).then(|| {
         format!(
-            "{method} cannot render the punctual lamps' light through smooth glass (caustics, \
-             L S+ D E paths): it is missing from this image; naive, s<d> and rc<l> render it"
+            "{method} cannot render the punctual lamps' light through smooth glass or off smooth \
+             mirrors (caustics, L S+ D E paths): it is missing from this image; naive, s<d> and \
+             rc<l> render it"
         )
     })
 }
@@ -76,5 +75,20 @@ mod tests {
         b.point_light(v(0., 2., 0.), [1.0; 3], 100.0);
         b.camera(v(0., 1., 3.), Vec3::ZERO, Vec3::Y, 1.0);
         assert_eq!(blind_spot(Method::PathTracer, &scene(&b.to_json())), None);
+        // A lamp off a smooth metal is a caustic too; off a rough one, or a Lambert floor, not.
+        for (roughness, told) in [(0.0, true), (0.2, false)] {
+            let mut b = GltfBuilder::new();
+            let floor = b.material("floor", [0.5; 3], [0.0; 3], 1.0, None);
+            let metal = b.pbr("metal", [0.9; 3], 1.0, roughness);
+            b.quad(floor, [v(-1., 0., 1.), v(1., 0., 1.), v(1., 0., -1.), v(-1., 0., -1.)]);
+            b.sphere(metal, v(0., 0.6, 0.), 0.5, 6);
+            b.point_light(v(0., 2., 0.), [1.0; 3], 100.0);
+            b.camera(v(0., 1., 3.), Vec3::ZERO, Vec3::Y, 1.0);
+            assert_eq!(
+                blind_spot(Method::PathTracer, &scene(&b.to_json())).is_some(),
+                told,
+                "roughness {roughness}"
+            );
+        }
     }
 }

@@ -209,10 +209,53 @@ fn read_material(m: &gltf::Material, warnings: &mut Vec<String>, name: &str) -> 
         }
     }
     let glass = read_glass(m, &label, warnings, name)?;
+    let at = m.index().map(|i| format!("materials[{i}]")).unwrap_or_else(|| label.clone());
+    let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}.{what}") };
+    let unit = |x: f32| (0.0..=1.0).contains(&x);
+    let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
+    if !unit(metallic) {
+        return Err(malformed(format!(
+            "pbrMetallicRoughness.metallicFactor: {metallic}: must lie in [0, 1]"
+        )));
+    }
+    if !unit(roughness) {
+        return Err(malformed(format!(
+            "pbrMetallicRoughness.roughnessFactor: {roughness}: must lie in [0, 1]"
+        )));
+    }
+    let (mut specular, mut specular_color) = (1.0, [1.0; 3]);
+    if let Some(ext) = m.specular() {
+        specular = ext.specular_factor();
+        specular_color = ext.specular_color_factor();
+        if !unit(specular) {
+            return Err(malformed(format!(
+                "extensions.KHR_materials_specular.specularFactor: {specular}: must lie in [0, 1]"
+            )));
+        }
+        if !specular_color.iter().all(|c| c.is_finite() && *c >= 0.0) {
+            return Err(malformed(format!(
+                "extensions.KHR_materials_specular.specularColorFactor: {specular_color:?}: each component must be finite and ≥ 0"
+            )));
+        }
+        if ext.specular_texture().is_some() || ext.specular_color_texture().is_some() {
+            warnings.push(format!(
+                "{label}: KHR_materials_specular's textures are ignored (its factors are used)"
+            ));
+        }
+    }
+    if pbr.metallic_roughness_texture().is_some() {
+        warnings.push(format!("{label}: metallicRoughnessTexture is ignored (its factors are used)"));
+    }
     Ok(Material {
         albedo: [base[0], base[1], base[2]],
         phong_exponent: phong,
         emission: [e[0] * strength, e[1] * strength, e[2] * strength],
+        // The spec's transmission is the dielectric part's: a metal does not transmit.
+        transmission: glass.transmission * (1.0 - metallic),
+        alpha: roughness * roughness,
+        metallic,
+        specular,
+        specular_color,
         ..glass
     })
 }
@@ -221,7 +264,7 @@ fn read_material(m: &gltf::Material, warnings: &mut Vec<String>, name: &str) -> 
 /// spec defines it: the `transmissionFactor` share of the material is a smooth dielectric of
 /// index `ior`, thin-walled without `KHR_materials_volume` (or with thicknessFactor 0), the
 /// boundary of a solid with it, attenuating by Beer–Lambert with −ln(attenuationColor) /
-/// attenuationDistance. Rough transmission is rendered smooth, with a warning.
+/// attenuationDistance. A thin wall's rough transmission is rendered smooth, with a warning.
 fn read_glass(
     m: &gltf::Material,
     label: &str,
@@ -275,15 +318,11 @@ fn read_glass(
             }
         }
     }
-    // A solid's interface is as rough as the material (GGX, α = roughness²); a thin wall's
-    // rough passage is not modelled.
+    // A solid's interface is as rough as the material (GGX, α = roughness², set by the
+    // caller); a thin wall's rough passage is not modelled.
     let roughness = m.pbr_metallic_roughness().roughness_factor();
-    if factor > 0.0 && roughness > 0.0 {
-        if glass.thin_walled != 0 {
-            warnings.push(format!("{label}: a thin wall's rough transmission is rendered smooth"));
-        } else {
-            glass.alpha = roughness * roughness;
-        }
+    if factor > 0.0 && roughness > 0.0 && glass.thin_walled != 0 {
+        warnings.push(format!("{label}: a thin wall's rough transmission is rendered smooth"));
     }
     Ok(glass)
 }
@@ -303,14 +342,24 @@ pub fn read_document(
             "KHR_materials_transmission",
             "KHR_materials_ior",
             "KHR_materials_volume",
+            "KHR_materials_specular",
         ]
         .contains(&ext)
         {
             soup.warnings.push(format!("extension {ext} is ignored"));
         }
     }
-    // Material 0 is glTF's default material (white Lambert); document materials follow.
-    soup.materials.push(Material { albedo: [1.0; 3], ..Default::default() });
+    // Material 0 is glTF's default material (the spec's: white, metallicFactor 1,
+    // roughnessFactor 1); document materials follow.
+    soup.materials.push(Material {
+        albedo: [1.0; 3],
+        ior: 1.5,
+        alpha: 1.0,
+        metallic: 1.0,
+        specular: 1.0,
+        specular_color: [1.0; 3],
+        ..Default::default()
+    });
     for m in doc.materials() {
         let mat = read_material(&m, &mut soup.warnings, name)?;
         soup.materials.push(mat);

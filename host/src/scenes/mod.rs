@@ -148,8 +148,10 @@ impl GltfBuilder {
         self.geometry.iter().map(|g| g.len() / 3).sum()
     }
 
-    /// Adds a material: base colour, emission (factor × strength; the strength is written with
-    /// `KHR_materials_emissive_strength` when it is not 1), and an optional Phong exponent.
+    /// Adds a Lambertian material (glTF's BRDF without its dielectric layer:
+    /// `KHR_materials_specular`'s specularFactor 0, metallicFactor 0): base colour, emission
+    /// (factor × strength; the strength is written with `KHR_materials_emissive_strength` when
+    /// it is not 1), and an optional Phong exponent (smlt's `extras`; Lambert to other readers).
     pub fn material(
         &mut self,
         name: &str,
@@ -158,18 +160,36 @@ impl GltfBuilder {
         strength: f32,
         phong: Option<f32>,
     ) -> usize {
+        // specularFactor 0: no dielectric layer, so that glTF's BRDF is exactly Lambertian.
         let mut m = json!({
             "name": name,
             "pbrMetallicRoughness": {"baseColorFactor": [base[0], base[1], base[2], 1.0], "metallicFactor": 0.0},
             "emissiveFactor": emission,
+            "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}},
         });
         if strength != 1.0 {
-            m["extensions"] = json!({"KHR_materials_emissive_strength": {"emissiveStrength": strength}});
+            m["extensions"]["KHR_materials_emissive_strength"] = json!({"emissiveStrength": strength});
         }
         if let Some(e) = phong {
             m["extras"] = json!({ crate::scene::PHONG_EXPONENT_KEY: e });
         }
         self.materials.push(m);
+        self.geometry.push(Vec::new());
+        self.materials.len() - 1
+    }
+
+    /// Adds a material of glTF's metallic-roughness BRDF as the spec defines it (no
+    /// `KHR_materials_specular`: the dielectric layer reflects 4 % at normal incidence): base
+    /// colour, metallicFactor and roughnessFactor.
+    pub fn pbr(&mut self, name: &str, base: [f32; 3], metallic: f32, roughness: f32) -> usize {
+        self.materials.push(json!({
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [base[0], base[1], base[2], 1.0],
+                "metallicFactor": metallic,
+                "roughnessFactor": roughness,
+            },
+        }));
         self.geometry.push(Vec::new());
         self.materials.len() - 1
     }
