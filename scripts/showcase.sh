@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # The showcase: a spot lamp's caustic through a glass ball (the `caustic` scene), where a path
 # tracer fails outright, measured at equal time on the CPU backend — smlt's path tracer, the
-# multiplexed estimator (naive, s3), the path estimator, and Mitsuba 3's path tracer — against
+# multiplexed estimator (naive, s3), the path estimator, Mitsuba 3's and Cycles' path tracers — against
 # a bidirectional reference; then the same view under a sky (`--environment`, the sky of
 # scripts/peers/check_environment.sh) beside its lamps. Writes OUT/lamp and OUT/sky (each the
-# bench's results.csv, tables.md and images, with Mitsuba's rows appended), OUT/caustic.png
+# bench's results.csv, tables.md and images, and all/ with Mitsuba's and Cycles' rows appended), OUT/caustic.png
 # (the README's picture) and OUT/run.txt.
 #   scripts/showcase.sh [OUT]   (default: /tmp/showcase)
-# Needs smlt built (cargo build --release); Mitsuba's rows need the peers' Python packages
-# (scripts/peers/requirements.txt) and are left out without them.
+# Needs smlt built (cargo build --release); Mitsuba's and Cycles' rows need the peers' Python
+# packages (scripts/peers/requirements.txt: mitsuba, bpy) and each is left out without its own.
 #
 # The reference is the multiplexed estimator's (naive) long render: no path tracer renders the
 # spot's caustic, so a path-traced reference would be wrong where it matters. It is checked two
@@ -87,11 +87,20 @@ print(f"{view}: reference halves' means {a.mean():.5f}, {b.mean():.5f}; referenc
 PY
     "$smlt" bench --device cpu --scenes caustic --methods pt,naive,s3,path-naive --seconds "$seconds" \
         --repeats "$repeats" "${size[@]}" "${env[@]}" --reference "$view/reference.exr" --out "$view" | tail -2
+    peer_env=()
+    [ "$view" = sky ] && peer_env=(--environment sky.hdr --environment-strength 0.1 --environment-rotation 40)
+    rm -f "$view/peers.csv"
     if python3 -c "import mitsuba" 2>/dev/null; then
-        peer_env=()
-        [ "$view" = sky ] && peer_env=(--environment sky.hdr --environment-strength 0.1 --environment-rotation 40)
         python3 "$root/scripts/peers/mitsuba_peer.py" caustic.gltf "${size[@]}" --reference "$view/reference.exr" \
             --seconds "$seconds" --repeats "$repeats" --label caustic "${peer_env[@]}" --out "$view/peers.csv" | tail -1
+    fi
+    # Cycles through Blender's own glTF importer (bpy); the Blender log lines are dropped.
+    if python3 -c "import bpy" 2>/dev/null; then
+        python3 "$root/scripts/peers/cycles_peer.py" caustic.gltf "${size[@]}" --reference "$view/reference.exr" \
+            --seconds "$seconds" --repeats "$repeats" --label caustic "${peer_env[@]}" --out "$view/peers.csv" \
+            | grep "^caustic," | tail -1
+    fi
+    if [ -f "$view/peers.csv" ]; then
         (cat "$view/results.csv"; tail -n +2 "$view/peers.csv") > "$view/all.csv"
         "$smlt" plot "$view/all.csv" --out "$view/all" >/dev/null
     fi
