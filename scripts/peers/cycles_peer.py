@@ -24,10 +24,10 @@ What is set after the import, so that Cycles renders what smlt renders:
 - point and spot lamps radius 0, sun angle 0 (true punctual lights, as glTF's; Blender's
   importer gives point and spot radius 0 already, the sun 0.526 deg); Blender's importer
   converts candela and lux with PBR_WATTS_TO_LUMENS = 683 as smlt reads them;
-- Lambert surfaces (transmission 0): the importer's Principled BSDF with Specular IOR Level 0
-  and roughness 1, Lambertian in Cycles (smlt's scenes are Lambertian: the committed
-  scenes/*.gltf write KHR_materials_specular specularFactor 0; a file without it is still
-  rendered Lambertian here, as mitsuba_peer.py does);
+- Lambert surfaces (transmission 0, metallicFactor 0 and KHR_materials_specular specularFactor
+  0, as smlt's generated scenes write them): the importer's Principled BSDF with Specular IOR
+  Level 0 and roughness 1, Lambertian in Cycles as in smlt; any other opaque material keeps the
+  importer's Principled BSDF, which is Cycles' model, not glTF's BRDF (said in the notes);
 - emission one-sided, as smlt's emissive triangles (Cycles' emission is two-sided): the
   strength times (1 - Backfacing);
 - solid glass (KHR_materials_volume thicknessFactor > 0): the importer's Principled BSDF with
@@ -143,6 +143,13 @@ def fix_materials(bpy, doc, notes):
             front.inputs[2].default_value = strength
             nt.links.new(front.outputs[0], principled.inputs["Emission Strength"])
             notes.append(f"{mat.name}: emission one-sided (strength {strength:g})")
+        pbr = spec.get("pbrMetallicRoughness", {})
+        lambert = (float(ext.get("KHR_materials_specular", {}).get("specularFactor", 1.0)) == 0.0
+                   and float(pbr.get("metallicFactor", 1.0)) == 0.0)
+        if t == 0 and not lambert:
+            notes.append(f"{mat.name}: not Lambertian in glTF: the importer's Principled BSDF kept"
+                         " (Cycles' model, not glTF's BRDF)")
+            continue
         if t == 0:
             principled.inputs["Specular IOR Level"].default_value = 0.0
             principled.inputs["Roughness"].default_value = 1.0
