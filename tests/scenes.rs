@@ -23,6 +23,7 @@ fn the_committed_scenes_are_what_the_generators_write() {
         ("slit", include_str!("../scenes/slit.gltf")),
         ("lamps", include_str!("../scenes/lamps.gltf")),
         ("caustic", include_str!("../scenes/caustic.gltf")),
+        ("materials", include_str!("../scenes/materials.gltf")),
     ] {
         assert_eq!(
             text,
@@ -58,6 +59,7 @@ fn every_view_is_lit() {
         ("cornell", 1),
         ("lamps", 1),
         ("caustic", 1),
+        ("materials", 1),
     ] {
         let mut scene = load(name, 1);
         scene.select_view(view).unwrap();
@@ -160,8 +162,8 @@ fn the_atrium_sun_lights_the_banner() {
 }
 
 /// The paper's Sponza with a specular banner, written from the Dabrovic Sponza in
-/// `../shared/scenes/` (not committed: no licence terms): the model plus a Phong-1e5 banner and a
-/// sun, two views, and the model's own buffer found from wherever the variant is written.
+/// `../shared/scenes/` (not committed: no licence terms): the model, re-exported Lambert, plus a
+/// Phong-1e5 banner and a sun, two views, and the model's own buffer found from wherever the variant is written.
 #[test]
 fn the_sponza_banner_variant_is_the_sponza_plus_a_banner_and_a_sun() {
     let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -181,6 +183,12 @@ fn the_sponza_banner_variant_is_the_sponza_plus_a_banner_and_a_sun() {
     assert_eq!(banner.views.len(), 2);
     assert_eq!(banner.lights.len(), sponza.lights.len() + 2, "the sun's two triangles emit");
     assert!(banner.materials.iter().any(|m| m.phong_exponent == 1e5), "a Phong-1e5 banner");
+    // The model's materials re-exported Lambert (the file's own carry glTF's dielectric layer).
+    for t in &banner.triangles[..sponza.triangles.len()] {
+        let m = banner.materials[t.material as usize];
+        assert!(m.brdf().is_lambertian(), "{m:?}");
+    }
+    assert!(!sponza.materials[sponza.triangles[0].material as usize].brdf().is_lambertian());
     assert_the_sun_lights_the_banner(&banner, "sponza-banner");
     std::fs::remove_dir_all(&dir).unwrap();
 }

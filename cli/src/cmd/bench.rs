@@ -20,7 +20,7 @@ fn scene_view(s: &str) -> Result<(String, u32), String> {
 /// `smlt bench`'s flags.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Scenes, comma-separated, each a generated scene (cornell, atrium, nave, sunblind, slit, lamps, caustic) or a
+    /// Scenes, comma-separated, each a generated scene (cornell, atrium, nave, sunblind, slit, lamps, caustic, materials) or a
     /// glTF path, with an optional view: atrium:2.
     #[arg(long, value_delimiter = ',', default_value = "cornell,atrium:1,atrium:2,nave,sunblind", value_parser = scene_view)]
     pub scenes: Vec<(String, u32)>,

@@ -5,6 +5,7 @@ pub mod atrium;
 pub mod caustic;
 pub mod cornell;
 pub mod lamps;
+pub mod materials;
 pub mod nave;
 pub mod slit;
 pub mod sponza_banner;
@@ -50,7 +51,8 @@ pub fn sun_below_sky(far: Vec3, half: f32, target: Vec3, y: f32) -> [Vec3; 4] {
 }
 
 /// The names of the generated scenes.
-pub const GENERATED: [&str; 7] = ["cornell", "atrium", "nave", "sunblind", "slit", "lamps", "caustic"];
+pub const GENERATED: [&str; 8] =
+    ["cornell", "atrium", "nave", "sunblind", "slit", "lamps", "caustic", "materials"];
 
 /// The embedded default scene (what `smlt scene cornell` writes).
 pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/cornell.gltf");
@@ -113,6 +115,7 @@ pub fn generate(name: &str, tessellation: u32) -> Option<String> {
         "slit" => Some(slit::slit(tessellation)),
         "lamps" => Some(lamps::lamps(tessellation)),
         "caustic" => Some(caustic::caustic(tessellation)),
+        "materials" => Some(materials::materials(tessellation)),
         _ => None,
     }
 }
