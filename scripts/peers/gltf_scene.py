@@ -2,7 +2,8 @@
 transforms, baseColorFactor, emissiveFactor x KHR_materials_emissive_strength, the Phong
 exponent in the material's extras, perspective cameras in depth-first scene order,
 KHR_lights_punctual lights in smlt's units: candela / 683 W/sr, lux / 683 W/m², glass from
-KHR_materials_transmission, _ior and _volume, a solid glass's roughness) into plain numpy arrays, for the peers' converters."""
+KHR_materials_transmission, _ior and _volume, glTF's metallic-roughness BRDF with KHR_materials_specular)
+into plain numpy arrays, for the peers' converters."""
 
 import base64
 import json
@@ -23,11 +24,29 @@ class Material:
     albedo: tuple
     emission: tuple  # radiance (factor x strength)
     phong: float  # 0: Lambertian
-    transmission: float = 0.0  # the smooth dielectric's share; the rest is Lambert
+    transmission: float = 0.0  # the dielectric's share (x (1 - metallic)); the rest is glTF's BRDF
     ior: float = 1.5
     thin_walled: bool = True  # no KHR_materials_volume (or thicknessFactor 0)
     attenuation: tuple = (0.0, 0.0, 0.0)  # Beer-Lambert coefficient inside a solid, 1/m
-    alpha: float = 0.0  # a solid's GGX roughness, roughnessFactor^2 (0: smooth; thin walls stay smooth)
+    alpha: float = 0.0  # GGX roughness, roughnessFactor^2: the BRDF's, and a solid glass's (thin walls stay smooth)
+    metallic: float = 0.0  # glTF's metallicFactor
+    specular: float = 0.0  # KHR_materials_specular's specularFactor (1 without it)
+    specular_color: tuple = (1.0, 1.0, 1.0)
+
+    @property
+    def f0(self):
+        """The BRDF's dielectric layer's reflectance at normal incidence."""
+        r = ((self.ior - 1.0) / (self.ior + 1.0)) ** 2
+        return tuple(min(r * c, 1.0) * self.specular for c in self.specular_color)
+
+    @property
+    def lambertian(self):
+        """Whether glTF's BRDF is exactly Lambert here (no metal, no dielectric layer)."""
+        return self.metallic == 0.0 and self.specular == 0.0
+
+    @property
+    def rough_glass(self):
+        return self.transmission > 0 and not self.thin_walled and self.alpha >= 1e-3
 
 
 @dataclass
@@ -104,7 +123,8 @@ def load(path):
             out = np.concatenate(rows)
         return out.reshape(count, width) if width > 1 else out
 
-    materials = [Material("default", (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), 0.0)]  # as smlt: white Lambert
+    # glTF's default material, as smlt: white, metallic 1, roughness 1
+    materials = [Material("default", (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), 0.0, alpha=1.0, metallic=1.0, specular=1.0)]
     for m in doc.get("materials", []):
         base = m.get("pbrMetallicRoughness", {}).get("baseColorFactor", [1, 1, 1, 1])[:3]
         strength = m.get("extensions", {}).get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0)
@@ -119,10 +139,14 @@ def load(path):
         if not thin and math.isfinite(volume.get("attenuationDistance", math.inf)):
             colour = volume.get("attenuationColor", [1, 1, 1])
             attenuation = tuple(-math.log(max(c, 1e-30)) / volume["attenuationDistance"] for c in colour)
-        roughness = float(m.get("pbrMetallicRoughness", {}).get("roughnessFactor", 1.0))
-        alpha = roughness ** 2 if transmission > 0 and not thin and roughness ** 2 >= 1e-3 else 0.0
-        materials.append(Material(m.get("name", ""), tuple(base), emission, phong, transmission, ior, thin,
-                                  attenuation, alpha))
+        pbr = m.get("pbrMetallicRoughness", {})
+        roughness = float(pbr.get("roughnessFactor", 1.0))
+        metallic = float(pbr.get("metallicFactor", 1.0))
+        spec = ext.get("KHR_materials_specular", {})
+        materials.append(Material(m.get("name", ""), tuple(base), emission, phong, transmission * (1.0 - metallic),
+                                  ior, thin, attenuation, roughness ** 2, metallic,
+                                  float(spec.get("specularFactor", 1.0)),
+                                  tuple(spec.get("specularColorFactor", [1.0, 1.0, 1.0]))))
     scene = Scene(materials)
     root = doc["scenes"][doc.get("scene", 0)]
     stack = [(n, np.eye(4)) for n in reversed(root["nodes"])]

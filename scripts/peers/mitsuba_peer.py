@@ -12,7 +12,7 @@ results.csv (method `mitsuba-path`; candidates = paths traced).
 compares with the reference (the mean, and the error of the image and of its mirror image, to
 catch a flipped or shifted raster) - a peer's numbers count only after this agrees.
 
-Conversion: Lambert -> `diffuse` inside `twosided` (smlt's surfaces scatter on both sides;
+Conversion: Lambert (glTF's BRDF with no metal and specularFactor 0) -> `diffuse` inside `twosided` (smlt's surfaces scatter on both sides;
 `diffuse` alone is black from behind, which left the sunblind view, lit through the backs of its
 slats, 99.6 % dark); emitters -> one-sided `area` lights of the same radiance; smlt's normalised
 Phong lobe (any exponent > 0) -> `smlt_phong`, a Python BSDF plugin with smlt's own lobe,
@@ -24,7 +24,9 @@ of the same radiometric values; glass (KHR_materials_transmission) -> `dielectri
 KHR_materials_volume, with a `homogeneous` purely absorbing interior medium and `volpath` where
 it attenuates) or `thindielectric` (thin-walled: Mitsuba sums the slab's inter-reflections,
 reflecting 2R/(1+R) where glTF's single interface reflects R), tinted by baseColor, blended
-with the Lambert rest by `blendbsdf` where transmissionFactor < 1; `--environment` as smlt's
+with the BRDF rest by `blendbsdf` where transmissionFactor < 1; glTF's metallic-roughness BRDF
+otherwise -> `smlt_gltf`, a Python BSDF plugin written from the spec (`mitsuba_gltf.py`: Mitsuba
+has no glTF BRDF; `principled` is Disney's, see check_materials.sh); `--environment` as smlt's
 -> `envmap` or `constant` (`environment_dict`).
 Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
 libllvm19 unpacked with dpkg-deb -x works), else `scalar_rgb`."""
@@ -73,14 +75,18 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
         if mat.phong > 0:
             # mitsuba_phong.py's plugin, registered in main()
             bsdf = {"type": "smlt_phong", "reflectance": list(mat.albedo), "exponent": mat.phong}
-        else:
+        elif mat.lambertian:
             # smlt's surfaces scatter on both sides; Mitsuba's `diffuse` alone is black from behind
             bsdf = {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb}}
+        else:
+            # glTF's BRDF: mitsuba_gltf.py's plugin (two-sided), registered in main()
+            bsdf = {"type": "smlt_gltf", "base_color": list(mat.albedo), "metallic": mat.metallic,
+                    "alpha": mat.alpha, "f0": list(mat.f0), "f90": mat.specular}
         medium = None
         if mat.transmission > 0:
             glass = {"type": "thindielectric" if mat.thin_walled else "dielectric",
                      "int_ior": mat.ior, "ext_ior": 1.0, "specular_transmittance": rgb}
-            if mat.alpha > 0:
+            if mat.rough_glass:
                 glass.update({"type": "roughdielectric", "distribution": "ggx", "alpha": mat.alpha,
                               "sample_visible": True})
             if mat.transmission < 1:
@@ -166,6 +172,9 @@ def main():
     import mitsuba_phong  # after set_variant: the plugin derives from the variant's mi.BSDF
 
     mitsuba_phong.register()
+    import mitsuba_gltf
+
+    mitsuba_gltf.register()
     scene = gltf_scene.load(a.scene)
     label = a.label or os.path.splitext(os.path.basename(a.scene))[0]
     reference = read_exr(mi, a.reference)

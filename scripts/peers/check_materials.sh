@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# Mitsuba 3 against smlt on glTF's metallic-roughness BRDF: the means and RMSEs that
+# docs/results.md quotes.
+#  1. A plate of each kind (rough gold, red plastic, satin white, glTF's defaults) under a sun,
+#     filling the view: smlt's reference against Mitsuba with `smlt_gltf` (mitsuba_gltf.py, the
+#     spec's BRDF written independently) and against each plate's exact image (one bounce: the
+#     BRDF at each pixel's directions × the sun's irradiance, evaluated by Mitsuba); and
+#     Mitsuba's own `principled` (Disney's BRDF, not glTF's) against its exact image, which
+#     states the difference to expect between the two models before it is measured.
+#  2. The `materials` scene (every lobe, a mirror included, under two area lamps): smlt's
+#     reference against Mitsuba with `smlt_gltf`.
+#   scripts/peers/check_materials.sh [OUT]   (default: /tmp/check-materials)
+# Needs smlt built (cargo build --release), the peers' Python packages (requirements.txt) and
+# DRJIT_LIBLLVM_PATH (a libLLVM >= 16; the plugin needs Mitsuba's llvm_ad_rgb variant).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+out="${1:-/tmp/check-materials}"
+smlt="${CARGO_TARGET_DIR:-$root/target}/release/smlt"
+size=(--width 128 --height 96 --max-depth 12)
+: "${DRJIT_LIBLLVM_PATH:?set DRJIT_LIBLLVM_PATH to a libLLVM >= 16 (scripts/peers/README.md)}"
+export DRJIT_LIBLLVM_PATH
+mkdir -p "$out"
+cd "$out"
+"$smlt" scene materials --out materials.gltf >/dev/null
+python3 - <<'PY'
+import base64, json, math, struct
+# A plate 16 m wide, seen from (0, 1.2, 1.2) looking at the origin (yfov 0.5: the plate fills the
+# view), lit by a sun of 683 lux (1 W/m²) from (0.4, 1, 0.3).
+p = [(-8, 0, 8), (8, 0, 8), (8, 0, -8), (-8, 0, -8)]
+data = b"".join(struct.pack("<3f", *v) for v in p) + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+to_sun = [0.4, 1.0, 0.3]
+n = math.sqrt(sum(c * c for c in to_sun))
+d = [-c / n for c in to_sun]  # where the light travels: the node's -Z
+# The rotation taking -Z to d: axis (-Z) x d, angle acos(-Z . d).
+axis = [d[1], -d[0], 0.0]
+s = math.sqrt(sum(c * c for c in axis))
+angle = math.acos(-d[2])
+q = [c / s * math.sin(angle / 2) for c in axis] + [math.cos(angle / 2)]
+plates = {
+    "gold": {"baseColorFactor": [1.0, 0.78, 0.34, 1], "metallicFactor": 1.0, "roughnessFactor": 0.35},
+    "plastic": {"baseColorFactor": [0.7, 0.1, 0.08, 1], "metallicFactor": 0.0, "roughnessFactor": 0.3},
+    "satin": {"baseColorFactor": [0.8, 0.8, 0.78, 1], "metallicFactor": 0.0, "roughnessFactor": 0.6},
+    "defaults": {"baseColorFactor": [0.6, 0.6, 0.6, 1]},
+}
+for name, pbr in plates.items():
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+           "extensionsUsed": ["KHR_lights_punctual"], "extensionsRequired": ["KHR_lights_punctual"],
+           "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 683.0}]}},
+           "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+           "bufferViews": [{"buffer": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-8, 0, -8], "max": [8, 0, 8]},
+                         {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+           "materials": [{"name": name, "pbrMetallicRoughness": pbr}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+           "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}],
+           "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 1.2, 1.2], "rotation": [-0.38268343, 0, 0, 0.92387953]},
+                     {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": q}]}
+    json.dump(doc, open(f"plate_{name}.gltf", "w"))
+PY
+for name in gold plastic satin defaults; do
+    "$smlt" reference "plate_$name.gltf" --device cpu --spp 1024 "${size[@]}" --out "ref_plate_$name.exr" | { grep -E "noise" || true; }
+    python3 "$root/scripts/peers/mitsuba_peer.py" "plate_$name.gltf" "${size[@]}" --variant llvm_ad_rgb \
+        --reference "ref_plate_$name.exr" --converged 1024 --label "plate_$name" | tail -1
+done
+PYTHONPATH="$root/scripts/peers" python3 - "${size[@]}" <<'PY'
+# Each plate's exact image (one bounce, no shadow: the plate alone under the sun), for the
+# glTF BRDF and for Mitsuba's principled, at the pixels' centres; against the renders.
+import sys, tempfile
+import mitsuba as mi
+import drjit as dr
+import numpy as np
+mi.set_variant("llvm_ad_rgb")
+import gltf_scene, mitsuba_gltf, mitsuba_peer
+mitsuba_gltf.register()
+w, h, depth = int(sys.argv[2]), int(sys.argv[4]), int(sys.argv[6])
+def exact(d, sun):
+    scene = mi.load_dict(d)
+    sensor = scene.sensors()[0]
+    idx = dr.arange(mi.UInt32, w * h)
+    pos = mi.Point2f((mi.Float(idx % w) + 0.5) / w, (mi.Float(idx // w) + 0.5) / h)
+    ray, _ = sensor.sample_ray(0.0, 0.5, pos, mi.Point2f(0.5))
+    si = scene.ray_intersect(ray)
+    value = si.bsdf().eval(mi.BSDFContext(), si, si.to_local(mi.Vector3f(*(-float(c) for c in sun.direction))), si.is_valid())
+    img = np.array(value)
+    img = img if img.shape[0] == w * h else img.T  # (pixels, rgb)
+    return (img * np.array(sun.intensity)).reshape(h, w, 3)
+print("plate: smlt | smlt_gltf exact | principled exact, principled render (means; principled vs glTF expected, measured)")
+for name in ["gold", "plastic", "satin", "defaults"]:
+    scene = gltf_scene.load(f"plate_{name}.gltf")
+    mat, sun = scene.materials[1], scene.lights[0]
+    with tempfile.TemporaryDirectory() as folder:
+        d = mitsuba_peer.scene_dict(mi, scene, 1, w, h, depth, folder)
+        gltf_img = exact(d, sun)
+        key = [k for k in d if k.startswith("mesh")][0]
+        d[key]["bsdf"] = {"type": "principled", "base_color": {"type": "rgb", "value": list(mat.albedo)},
+                          "metallic": mat.metallic, "roughness": mat.alpha ** 0.5, "specular": 0.5}
+        principled_img = exact(d, sun)
+        rendered = np.array(mi.render(mi.load_dict(d), spp=256))
+    ref = mitsuba_peer.read_exr(mi, f"ref_plate_{name}.exr")
+    m = lambda a: float(np.mean(a))  # noqa: E731
+    print(f"{name}: smlt {m(ref):.5f} vs exact {m(gltf_img):.5f} ({100 * (m(ref) / m(gltf_img) - 1):+.2f} %); "
+          f"principled exact {m(principled_img):.5f}, render {m(rendered):.5f}: expected "
+          f"{100 * (m(principled_img) / m(gltf_img) - 1):+.1f} %, measured {100 * (m(rendered) / m(ref) - 1):+.1f} %")
+PY
+"$smlt" reference materials.gltf --device cpu --spp 2048 "${size[@]}" --out ref_materials.exr | { grep -E "noise" || true; }
+python3 "$root/scripts/peers/mitsuba_peer.py" materials.gltf "${size[@]}" --variant llvm_ad_rgb \
+    --reference ref_materials.exr --converged 2048 --label materials | tail -1

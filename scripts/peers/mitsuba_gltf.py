@@ -1,0 +1,142 @@
+"""glTF 2.0's metallic-roughness BRDF (the spec's Appendix B, with KHR_materials_specular) as a
+Mitsuba 3 Python plugin, `smlt_gltf`, written from the spec, not from smlt's code:
+
+    f = (1 - metallic) [(1 - F_d) base / pi + F_d V D] + metallic F_m V D,
+    F_d = f0 + (f90 - f0) (1 - |V.H|)^5,   F_m = base + (1 - base) (1 - |V.H|)^5,
+    V = 0.5 / (N.L sqrt(N.V^2 (1 - a^2) + a^2) + N.V sqrt(N.L^2 (1 - a^2) + a^2)),
+    D = a^2 / (pi ((N.H)^2 (a^2 - 1) + 1)^2),   a = roughness^2,
+
+with f0 = min(((ior - 1)/(ior + 1))^2 specularColor, 1) specular and f90 = specular. Where a is
+below 1e-3 (smlt's smooth limit) the specular lobe is a mirror: a delta of weight
+(1 - metallic) F_d + metallic F_m at H = N. The surface scatters on both sides, as smlt's do.
+
+Sampling is this plugin's own, not smlt's: the specular lobe with probability 1/2 (1 for a
+metal, 0 without a layer) by Mitsuba's GGX visible-normal sampler, else cosine-weighted.
+
+Mitsuba's `si.wi` is smlt's `wo` (toward the camera), Mitsuba's `wo` smlt's `wi`; `eval`
+includes the cosine, `sample` returns f cos / pdf. Usage: `import mitsuba_gltf;
+mitsuba_gltf.register()` after `mi.set_variant(...)` (a JIT variant such as `llvm_ad_rgb`), then
+`{"type": "smlt_gltf", "base_color": [r, g, b], "metallic": m, "alpha": a, "f0": [r, g, b],
+"f90": s}`.
+"""
+
+import math
+
+import drjit as dr
+import mitsuba as mi
+
+NAME = "smlt_gltf"
+SMOOTH_ALPHA = 1e-3
+
+
+def schlick(c):
+    x = dr.clip(1.0 - c, 0.0, 1.0)
+    return x * x * x * x * x
+
+
+class SmltGltf(mi.BSDF):
+    """glTF's two-sided metallic-roughness BRDF; properties `base_color`, `metallic`, `alpha`,
+    `f0` (the dielectric layer's normal reflectance, rgb) and `f90`."""
+
+    def __init__(self, props):
+        mi.BSDF.__init__(self, props)
+        rgb = lambda key: mi.Color3f(*(float(c) for c in props[key]))  # noqa: E731
+        self.base = rgb("base_color")
+        self.metallic = float(props["metallic"])
+        self.alpha = float(props["alpha"])
+        self.f0 = rgb("f0")
+        self.f90 = float(props["f90"])
+        self.smooth = self.alpha < SMOOTH_ALPHA
+        self.has_layer = self.metallic > 0.0 or self.f90 > 0.0 or max(float(c) for c in props["f0"]) > 0.0
+        self.p_specular = 0.0 if not self.has_layer else (1.0 if self.metallic >= 1.0 else 0.5)
+        lobe = mi.BSDFFlags.DeltaReflection if self.smooth else mi.BSDFFlags.GlossyReflection
+        sides = mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
+        self.m_components = [mi.BSDFFlags.DiffuseReflection | sides, lobe | sides]
+        self.m_flags = mi.BSDFFlags.DiffuseReflection | lobe | sides
+        self.ggx = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, max(self.alpha, SMOOTH_ALPHA), True)
+
+    @staticmethod
+    def _local(si, wo):
+        """The two directions on the side `si.wi` lies on (z flipped when it is the back)."""
+        side = dr.select(si.wi.z >= 0.0, 1.0, -1.0)
+        v = mi.Vector3f(si.wi.x, si.wi.y, side * si.wi.z)
+        l = mi.Vector3f(wo.x, wo.y, side * wo.z)
+        return v, l
+
+    def _fresnel(self, c):
+        w = schlick(c)
+        f_d = self.f0 + (mi.Color3f(self.f90) - self.f0) * w
+        f_m = self.base + (mi.Color3f(1.0) - self.base) * w
+        return f_d, f_m
+
+    def _f(self, v, l):
+        """f (without the mirror) for both directions above the surface."""
+        h = dr.normalize(v + l)
+        f_d, f_m = self._fresnel(dr.abs(dr.dot(v, h)))
+        a2 = self.alpha * self.alpha
+        n_v, n_l, n_h = v.z, l.z, h.z
+        vis = 0.5 / (n_l * dr.sqrt(n_v * n_v * (1.0 - a2) + a2) + n_v * dr.sqrt(n_l * n_l * (1.0 - a2) + a2))
+        d = a2 / (math.pi * dr.square(n_h * n_h * (a2 - 1.0) + 1.0))
+        spec = 0.0 if self.smooth else vis * d
+        dielectric = (mi.Color3f(1.0) - f_d) * self.base / math.pi + f_d * spec
+        return dielectric * (1.0 - self.metallic) + f_m * (spec * self.metallic)
+
+    def _pdf(self, v, l):
+        cosine = (1.0 - self.p_specular) * l.z / math.pi
+        if self.smooth or self.p_specular == 0.0:
+            return cosine
+        h = dr.normalize(v + l)
+        return cosine + self.p_specular * self.ggx.pdf(v, h) / (4.0 * dr.dot(v, h))
+
+    def eval(self, ctx, si, wo, active=True):
+        v, l = self._local(si, wo)
+        valid = active & (v.z > 0.0) & (l.z > 0.0)
+        return dr.select(valid, self._f(v, l) * l.z, 0.0)
+
+    def pdf(self, ctx, si, wo, active=True):
+        v, l = self._local(si, wo)
+        valid = active & (v.z > 0.0) & (l.z > 0.0)
+        return dr.select(valid, self._pdf(v, l), 0.0)
+
+    def eval_pdf(self, ctx, si, wo, active=True):
+        return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+    def sample(self, ctx, si, sample1, sample2, active=True):
+        side = dr.select(si.wi.z >= 0.0, 1.0, -1.0)
+        v = mi.Vector3f(si.wi.x, si.wi.y, side * si.wi.z)
+        specular = sample1 < self.p_specular
+        if self.smooth:
+            m = mi.Normal3f(0.0, 0.0, 1.0)
+        else:
+            m, _ = self.ggx.sample(v, sample2)
+        l_spec = mi.reflect(v, m)
+        l_diff = mi.warp.square_to_cosine_hemisphere(sample2)
+        l = dr.select(specular, l_spec, l_diff)
+        valid = active & (v.z > 0.0) & (l.z > 0.0)
+        bs = mi.BSDFSample3f()
+        bs.wo = mi.Vector3f(l.x, l.y, side * l.z)
+        bs.eta = 1.0
+        if self.smooth:
+            f_d, f_m = self._fresnel(v.z)
+            mirror = f_d * (1.0 - self.metallic) + f_m * self.metallic
+            pdf = dr.select(specular, self.p_specular, self._pdf(v, l))
+            weight = dr.select(specular, mirror / self.p_specular, self._f(v, l) * l.z / pdf)
+            bs.sampled_type = dr.select(specular, mi.UInt32(+mi.BSDFFlags.DeltaReflection),
+                                        mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
+        else:
+            pdf = self._pdf(v, l)
+            weight = self._f(v, l) * l.z / pdf
+            bs.sampled_type = dr.select(specular, mi.UInt32(+mi.BSDFFlags.GlossyReflection),
+                                        mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
+        bs.sampled_component = dr.select(specular, mi.UInt32(1), mi.UInt32(0))
+        valid = valid & (pdf > 0.0)
+        bs.pdf = dr.select(valid, pdf, 0.0)
+        return bs, dr.select(valid, weight, 0.0)
+
+    def to_string(self):
+        return f"SmltGltf[base={self.base}, metallic={self.metallic}, alpha={self.alpha}, f0={self.f0}, f90={self.f90}]"
+
+
+def register():
+    """Registers the plugin as `smlt_gltf` (call after mi.set_variant)."""
+    mi.register_bsdf(NAME, lambda props: SmltGltf(props))
