@@ -468,7 +468,14 @@ fn the_metallic_roughness_brdf_reads_as_the_spec_defines_it() {
         json!({"metallicFactor": 0.75, "roughnessFactor": 0.0}),
         json!({"KHR_materials_transmission": {"transmissionFactor": 1.0}}),
     );
-    assert_eq!(metal_glass.transmission, 0.25);
+    // The spec's mix: metal 0.75, glass 0.25 × 1, no opaque dielectric left.
+    assert_eq!((metal_glass.transmission, metal_glass.metallic), (0.25, 1.0));
+    let half = material(
+        json!({"metallicFactor": 0.5}),
+        json!({"KHR_materials_transmission": {"transmissionFactor": 0.5}}),
+    );
+    // Glass 0.25; the rest 0.75: metal 0.5 of the whole, the opaque dielectric 0.25.
+    assert!((half.transmission - 0.25).abs() < 1e-6 && (half.metallic - 2.0 / 3.0).abs() < 1e-6, "{half:?}");
     assert!(material(json!({"roughnessFactor": 0.0}), json!({})).has_delta_lobe());
     // The default material: a primitive without one.
     let mut doc = doc_with(json!({}), json!({}));

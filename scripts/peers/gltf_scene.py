@@ -143,8 +143,12 @@ def load(path):
         roughness = float(pbr.get("roughnessFactor", 1.0))
         metallic = float(pbr.get("metallicFactor", 1.0))
         spec = ext.get("KHR_materials_specular", {})
-        materials.append(Material(m.get("name", ""), tuple(base), emission, phong, transmission * (1.0 - metallic),
-                                  ior, thin, attenuation, roughness ** 2, metallic,
+        # glTF's mix(dielectric, metal, metallic), the dielectric transmitting: glass t = tr (1 - m),
+        # the BRDF share 1 - t metal by m / (1 - t) (as smlt's read.rs)
+        t = transmission * (1.0 - metallic)
+        metal = min(metallic / (1.0 - t), 1.0) if t < 1.0 else 0.0
+        materials.append(Material(m.get("name", ""), tuple(base), emission, phong, t,
+                                  ior, thin, attenuation, roughness ** 2, metal,
                                   float(spec.get("specularFactor", 1.0)),
                                   tuple(spec.get("specularColorFactor", [1.0, 1.0, 1.0]))))
     scene = Scene(materials)

@@ -63,7 +63,8 @@ pub struct Material {
     /// The GGX roughness α (glTF's roughnessFactor²) of the BRDF's specular lobe and of a
     /// solid dielectric; below [`SMOOTH_ALPHA`] they are smooth (delta lobes).
     pub alpha: f32,
-    /// glTF's metallicFactor.
+    /// The metal's share of the glTF BRDF: glTF's metallicFactor m, or m / (1 − t) where the
+    /// material transmits (the spec's metal keeps m of the whole).
     pub metallic: f32,
     /// `KHR_materials_specular`'s specularFactor (1 without the extension; 0: no dielectric
     /// layer, so that a non-metal is exactly Lambertian).
@@ -271,7 +272,7 @@ fn rough_dielectric_eval(alpha: f32, eta: f32, wo: Vec3, wi: Vec3, radiance: boo
         return (0.0, false);
     }
     let m = h.m;
-    let d = crate::microfacet::ggx_d(alpha, m.z);
+    let d = crate::microfacet::ggx_d(alpha, m);
     let g = crate::microfacet::smith_g(alpha, wo.z, wi.z);
     let f = fresnel_dielectric(wo.dot(m), eta);
     if !h.transmits {
@@ -559,11 +560,12 @@ fn brdf_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool, share: 
         }
         let wi = from_local(ns, s.wi);
         if s.delta {
-            let pdf = s.pdf * share;
-            if !(pdf > 0.0 && ns.dot(wi) > 0.0) {
+            // As the glass's mirror: f · cos θ_i / pdf is the reflected share over its probability.
+            let (pdf, cos_i) = (s.pdf * share, ns.dot(wi));
+            if !(pdf > 0.0 && cos_i > 0.0) {
                 return BsdfSample::default();
             }
-            return BsdfSample { wi, f: s.f * share, pdf, delta: true };
+            return BsdfSample { wi, f: s.f * (share / cos_i), pdf, delta: true };
         }
         wi
     };

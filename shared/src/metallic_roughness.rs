@@ -137,9 +137,13 @@ pub fn eval(b: &MetallicRoughness, wo: Vec3, wi: Vec3) -> Vec3 {
     if b.alpha < crate::bsdf::SMOOTH_ALPHA {
         return diffuse;
     }
-    let hn = h.normalize();
-    let s = crate::microfacet::ggx_d(b.alpha, hn.z) * crate::microfacet::smith_g(b.alpha, wo.z, wi.z)
-        / (4.0 * wo.z * wi.z);
+    let denominator = 4.0 * wo.z * wi.z;
+    if !(denominator > 0.0) {
+        return diffuse;
+    }
+    let s = crate::microfacet::ggx_d(b.alpha, h.normalize())
+        * crate::microfacet::smith_g(b.alpha, wo.z, wi.z)
+        / denominator;
     diffuse + b.specular_fresnel(c) * s
 }
 
@@ -166,8 +170,9 @@ pub fn pdf(b: &MetallicRoughness, wo: Vec3, wi: Vec3) -> f32 {
 pub struct LocalSample {
     /// The sampled direction.
     pub wi: Vec3,
-    /// For the mirror, the value and discrete probability (f · cos θ_i / pdf is the sample's
-    /// weight); otherwise [`eval`] and [`pdf`] give them.
+    /// For the mirror, the share of light it reflects (its Fresnel weight; with `pdf`, its
+    /// discrete probability, the sample's weight is `f / pdf`); otherwise [`eval`] and [`pdf`]
+    /// give the value and density.
     pub f: Vec3,
     /// See `f`.
     pub pdf: f32,
@@ -187,7 +192,7 @@ pub fn sample(b: &MetallicRoughness, wo: Vec3, u: Vec2) -> LocalSample {
         let v = Vec2::new((u.x / p).min(1.0 - f32::EPSILON), u.y);
         if b.alpha < crate::bsdf::SMOOTH_ALPHA {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
-            return LocalSample { wi, f: b.specular_fresnel(wo.z) / wo.z, pdf: p, delta: true, found: true };
+            return LocalSample { wi, f: b.specular_fresnel(wo.z), pdf: p, delta: true, found: true };
         }
         let m = crate::microfacet::sample_visible_normal(b.alpha, wo, v);
         let wi = 2.0 * wo.dot(m) * m - wo;

@@ -243,6 +243,7 @@ fn read_material(m: &gltf::Material, warnings: &mut Vec<String>, name: &str) -> 
             ));
         }
     }
+    let transmission = glass.transmission * (1.0 - metallic);
     if pbr.metallic_roughness_texture().is_some() {
         warnings.push(format!("{label}: metallicRoughnessTexture is ignored (its factors are used)"));
     }
@@ -250,10 +251,12 @@ fn read_material(m: &gltf::Material, warnings: &mut Vec<String>, name: &str) -> 
         albedo: [base[0], base[1], base[2]],
         phong_exponent: phong,
         emission: [e[0] * strength, e[1] * strength, e[2] * strength],
-        // The spec's transmission is the dielectric part's: a metal does not transmit.
-        transmission: glass.transmission * (1.0 - metallic),
+        // The spec's mix(dielectric, metal, metallic), the dielectric transmitting its
+        // transmissionFactor: glass t = tr (1 − m), and the BRDF share 1 − t is metal by
+        // m / (1 − t), so that metal keeps m and the opaque dielectric (1 − m)(1 − tr).
+        transmission,
         alpha: roughness * roughness,
-        metallic,
+        metallic: if transmission < 1.0 { (metallic / (1.0 - transmission)).min(1.0) } else { 0.0 },
         specular,
         specular_color,
         ..glass

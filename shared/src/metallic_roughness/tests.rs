@@ -255,7 +255,7 @@ fn a_smooth_lobe_is_a_mirror() {
             mirrors += 1;
             assert_eq!((s.wi.z, s.pdf), (wo.z, p));
             assert!((s.wi.x + wo.x).abs() < 1e-6 && (s.wi.y + wo.y).abs() < 1e-6);
-            weight += s.f * s.wi.z / s.pdf;
+            weight += s.f / s.pdf;
         } else if s.found {
             weight += eval(&b, wo, s.wi) * s.wi.z / pdf(&b, wo, s.wi);
         }
