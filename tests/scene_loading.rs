@@ -471,7 +471,7 @@ fn the_metallic_roughness_brdf_reads_as_the_spec_defines_it() {
     // The spec's mix: metal 0.75, glass 0.25 × 1, no opaque dielectric left.
     assert_eq!((metal_glass.transmission, metal_glass.metallic), (0.25, 1.0));
     let half = material(
-        json!({"metallicFactor": 0.5}),
+        json!({"metallicFactor": 0.5, "roughnessFactor": 0.0}),
         json!({"KHR_materials_transmission": {"transmissionFactor": 0.5}}),
     );
     // Glass 0.25; the rest 0.75: metal 0.5 of the whole, the opaque dielectric 0.25.

@@ -4,11 +4,13 @@
 //! What is read, and nothing more (model only what a scene needs):
 //! - triangle meshes (primitive mode TRIANGLES; any other mode is an error) with node
 //!   transforms, matrix or TRS, of the default scene (or the first);
-//! - materials: `baseColorFactor` → albedo; `emissiveFactor` × `KHR_materials_emissive_strength`
-//!   → emission (one-sided, along the triangle's counter-clockwise normal); the Phong exponent
-//!   from the material's extras, key [`PHONG_EXPONENT_KEY`] (absent or 0: Lambertian).
-//!   Textures and other material extensions change the image but are not modelled: each is
-//!   named in a printed warning;
+//! - materials: glTF's metallic-roughness BRDF (`baseColorFactor`, `metallicFactor`,
+//!   `roughnessFactor`, `KHR_materials_specular`, `KHR_materials_ior`), glass
+//!   (`KHR_materials_transmission`, `_volume`); `emissiveFactor` ×
+//!   `KHR_materials_emissive_strength` → emission (one-sided, along the triangle's
+//!   counter-clockwise normal); the Phong exponent from the material's extras, key
+//!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF). Textures and other material extensions
+//!   change the image but are not modelled: each is named in a printed warning;
 //! - punctual lights (`KHR_lights_punctual`: point, spot, directional) on their nodes, in
 //!   Blender's units (`lights`);
 //! - perspective cameras, in the order of a depth-first walk of the scene: view 1 is the first
