@@ -71,7 +71,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from peer_common import append_rows, arguments, errors, row, time_grid  # noqa: E402
+from peer_common import append_rows, arguments, equal_time_rows, errors  # noqa: E402
 
 
 def camera_node_names(doc):
@@ -303,7 +303,6 @@ def main():
         raise SystemExit(f"the reference is {reference.shape[1]}x{reference.shape[0]}, not {a.width}x{a.height}")
     bpy, scene, notes = setup(a)
     print("; ".join(notes), flush=True)
-    pixels = a.width * a.height
     with tempfile.TemporaryDirectory() as folder:
         exr = os.path.join(folder, "chunk.exr")
         scene.render.filepath = exr
@@ -329,19 +328,7 @@ def main():
 
                 shutil.copyfile(exr, a.save)
             return
-        rows = []
-        for repeat in range(a.repeats):
-            total = np.zeros_like(reference)
-            spp, elapsed, call = 0, 0.0, 0
-            for t in time_grid(a.seconds):
-                while elapsed < t:
-                    img, took = render(a.chunk, repeat * 100003 + call)
-                    elapsed += took
-                    total += img * a.chunk
-                    spp += a.chunk
-                    call += 1
-                rows.append(row(label, a.view, "cycles-path", repeat, elapsed, spp * pixels, errors(total / spp, reference)))
-                print(rows[-1], flush=True)
+        rows = equal_time_rows(render, a.chunk, a.seconds, a.repeats, reference, label, a.view, "cycles-path")
     append_rows(a.out, rows)
 
 

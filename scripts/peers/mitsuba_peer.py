@@ -41,7 +41,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import gltf_scene  # noqa: E402
-from peer_common import append_rows, arguments, errors, row, time_grid, write_ply  # noqa: E402
+from peer_common import append_rows, arguments, equal_time_rows, errors, write_ply  # noqa: E402
 
 
 def scene_dict(mi, scene, view, width, height, max_depth, folder):
@@ -185,7 +185,6 @@ def main():
         if a.environment:
             d["environment"] = environment_dict(mi, a.environment, a.environment_strength, a.environment_rotation)
         m_scene = mi.load_dict(d)
-        pixels = a.width * a.height
         if a.converged:
             start = time.time()
             img = np.array(m_scene.integrator().render(m_scene, seed=1, spp=a.converged))
@@ -196,23 +195,13 @@ def main():
                   f" reference's {mean_r:.5f} ({100 * (mean_i / mean_r - 1):+.2f} %); RMSE {errors(img, reference)[0]:.5f},"
                   f" mirrored {flipped:.5f}")
             return
-        grid = time_grid(a.seconds)
-        rows = []
-        for repeat in range(a.repeats):
-            total = np.zeros_like(reference)
-            spp = 0
-            elapsed = 0.0
-            call = 0
-            for t in grid:
-                while elapsed < t:
-                    start = time.time()
-                    img = np.array(m_scene.integrator().render(m_scene, seed=repeat * 100003 + call, spp=a.chunk))
-                    elapsed += time.time() - start
-                    total += img * a.chunk
-                    spp += a.chunk
-                    call += 1
-                rows.append(row(label, a.view, "mitsuba-path", repeat, elapsed, spp * pixels, errors(total / spp, reference)))
-                print(rows[-1], flush=True)
+
+        def render(spp, seed):
+            start = time.time()
+            img = np.array(m_scene.integrator().render(m_scene, seed=seed, spp=spp))
+            return img, time.time() - start
+
+        rows = equal_time_rows(render, a.chunk, a.seconds, a.repeats, reference, label, a.view, "mitsuba-path")
     append_rows(a.out, rows)
 
 

@@ -54,6 +54,27 @@ def time_grid(seconds):
     return grid + [seconds]
 
 
+def equal_time_rows(render, chunk, seconds, repeats, reference, label, view, method):
+    """The rows of an equal-time run: `repeats` renders accumulated in calls of `chunk` samples
+    per pixel (`render(spp, seed)` -> (image, seconds taken), each call its own seed) and
+    measured against `reference` at each time of `time_grid(seconds)`."""
+    pixels = reference.shape[0] * reference.shape[1]
+    rows = []
+    for repeat in range(repeats):
+        total = np.zeros_like(reference)
+        spp, elapsed, call = 0, 0.0, 0
+        for t in time_grid(seconds):
+            while elapsed < t:
+                img, took = render(chunk, repeat * 100003 + call)
+                elapsed += took
+                total += img * chunk
+                spp += chunk
+                call += 1
+            rows.append(row(label, view, method, repeat, elapsed, spp * pixels, errors(total / spp, reference)))
+            print(rows[-1], flush=True)
+    return rows
+
+
 def row(label, view, method, repeat, seconds, paths, err):
     rmse, relmse, psnr = err
     return (f"{label},{view},{method},{repeat},{seconds:.3f},{paths},{paths},{paths / seconds:.1f},"
