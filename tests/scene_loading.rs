@@ -88,17 +88,30 @@ fn unsupported_content_is_an_error_or_a_warning() {
     let err = load(&doc).unwrap_err().to_string();
     assert!(err.contains("nothing emits light"), "{err}");
 
-    // A texture (a real 1×1 PNG beside the file) is named in a warning, not silently dropped.
+    // A texture (a real 1×1 PNG beside the file) read with texture coordinates the mesh lacks
+    // is refused by name; a normal map and an occlusion map are named in a warning; an image
+    // in an encoding smlt does not read is left out with a warning.
     let dir = std::env::temp_dir().join(format!("smlt-texture-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     image::RgbImage::from_pixel(1, 1, image::Rgb([200, 10, 10])).save(dir.join("red.png")).unwrap();
+    std::fs::write(dir.join("not.webp"), b"RIFF\x10\0\0\0WEBPVP8 ").unwrap();
     let mut doc = one_light_doc();
     doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
-    doc["textures"] = json!([{"source": 0}]);
-    doc["images"] = json!([{"uri": "red.png"}]);
+    doc["textures"] = json!([{"source": 0}, {"source": 1}]);
+    doc["images"] = json!([{"uri": "red.png"}, {"uri": "not.webp"}]);
+    std::fs::write(dir.join("textured.gltf"), doc.to_string()).unwrap();
+    let err = SceneData::load(&dir.join("textured.gltf")).unwrap_err().to_string();
+    assert!(err.contains("meshes[0].primitives[0]") && err.contains("TEXCOORD_0"), "{err}");
+    doc["materials"][0]["pbrMetallicRoughness"].as_object_mut().unwrap().remove("baseColorTexture");
+    doc["materials"][0]["normalTexture"] = json!({"index": 0});
+    doc["materials"][0]["occlusionTexture"] = json!({"index": 0});
+    doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({"index": 1});
     std::fs::write(dir.join("textured.gltf"), doc.to_string()).unwrap();
     let scene = SceneData::load(&dir.join("textured.gltf")).unwrap();
-    assert!(scene.warnings.iter().any(|w| w.contains("textures are ignored")), "{:?}", scene.warnings);
+    for said in ["normalTexture is ignored", "occlusionTexture is ignored", "images[1]"] {
+        assert!(scene.warnings.iter().any(|w| w.contains(said)), "{said}: {:?}", scene.warnings);
+    }
+    assert_eq!(scene.material_textures.len(), 1, "the unreadable texture leaves the material untextured");
     // A buffer URI that does not exist, a missing file, a directory.
     doc["buffers"][0]["uri"] = json!("missing.bin");
     std::fs::write(dir.join("missing-buffer.gltf"), doc.to_string()).unwrap();
@@ -503,4 +516,49 @@ fn the_metallic_roughness_brdf_reads_as_the_spec_defines_it() {
         assert!(matches!(err, SceneError::Malformed { .. }) && line.contains(what), "{line}");
         assert!(!line.contains('\n'), "{line}");
     }
+}
+
+/// The `textured` scene's textures load as its builder wrote them: sRGB texels packed red
+/// first, the samplers' filters and wraps, the texture transform, and per-triangle texture
+/// coordinates that put the checker's squares where the projection puts them.
+#[test]
+fn textures_load_with_their_samplers_transforms_and_coordinates() {
+    use shared::texture::{Texture, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT};
+    let (_, scene, _) = smlt::scenes::open(Some("textured"), 1).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(scene.textures.len(), 4);
+    assert_eq!(scene.material_textures.len(), 5, "entry 0 and four textured materials");
+    let samplers: Vec<u32> = scene.textures.iter().map(|t| t.sampler).collect();
+    assert_eq!(
+        samplers,
+        [
+            Texture::sampler(WRAP_REPEAT, WRAP_REPEAT, true),
+            Texture::sampler(WRAP_MIRROR, WRAP_CLAMP, false),
+            Texture::sampler(WRAP_REPEAT, WRAP_REPEAT, false),
+            Texture::sampler(WRAP_CLAMP, WRAP_CLAMP, true),
+        ]
+    );
+    let checker = scene.textures[0];
+    assert_eq!((checker.width, checker.height, checker.offset), (8, 8, 0));
+    assert_eq!(scene.texels[0], u32::from_le_bytes([210, 205, 195, 255]));
+    assert_eq!(scene.texels[1], u32::from_le_bytes([40, 45, 60, 255]));
+    // The banded wall's transform: scale (1.5, 1), rotation 0.3, offset (0.2, −0.1).
+    let wall = scene.materials.iter().find(|m| m.textures == 2).expect("the banded wall");
+    let r = scene.material_textures[wall.textures as usize].base_color;
+    let expected = shared::texture::texture_transform([0.2, -0.1], 0.3, [1.5, 1.0]);
+    assert!(r.transform.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-6), "{:?}", r.transform);
+    // On the floor, TEXCOORD_0 = (x, z) / 2: the texel at (0.3, 0, 0.3) is (1, 1), light;
+    // the one at (0.3, 0, 0.55) is (1, 2), dark (squares of 0.25 m).
+    let shared_scene = scene.shared();
+    let floor_at = |x: f32, z: f32| {
+        let p = Vec3::new(x, 0.0, z);
+        let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT);
+        shared::surface::material_at(&shared_scene, hit.triangle, p).albedo
+    };
+    let light = shared::texture::srgb_to_linear(210.0 / 255.0);
+    let dark = shared::texture::srgb_to_linear(40.0 / 255.0);
+    assert!((floor_at(0.3, 0.3)[0] - light).abs() < 1e-5, "{:?}", floor_at(0.3, 0.3));
+    assert!((floor_at(0.3, 0.55)[0] - dark).abs() < 1e-5, "{:?}", floor_at(0.3, 0.55));
+    assert!((floor_at(-0.3, 0.55)[0] - light).abs() < 1e-5, "REPEAT below 0: {:?}", floor_at(-0.3, 0.55));
+    assert!(scene.describe_contents().contains("4 texture(s)"), "{}", scene.describe_contents());
 }

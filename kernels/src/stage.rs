@@ -95,6 +95,10 @@ pub const SCENE_BINDINGS: &[Binding] = &[
     scene_binding(4, "punctual", core::any::type_name::<shared::punctual::PunctualLight>),
     scene_binding(5, "environment", core::any::type_name::<shared::environment::Environment>),
     scene_binding(6, "environment_map", core::any::type_name::<f32>),
+    scene_binding(7, "material_textures", core::any::type_name::<shared::surface::MaterialTextures>),
+    scene_binding(8, "textures", core::any::type_name::<shared::texture::Texture>),
+    scene_binding(9, "texels", core::any::type_name::<u32>),
+    scene_binding(10, "texcoords", core::any::type_name::<shared::surface::TriangleTexcoords>),
 ];
 
 const fn scene_binding(binding: u32, name: &'static str, element: fn() -> &'static str) -> Binding {
@@ -285,6 +289,10 @@ macro_rules! stage {
             #[spirv(storage_buffer, descriptor_set = 1, binding = 4)] punctual: &[shared::punctual::PunctualLight],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 5)] environment: &[shared::environment::Environment],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 6)] environment_map: &[f32],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 7)] material_textures: &[shared::surface::MaterialTextures],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 8)] textures: &[shared::texture::Texture],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 9)] texels: &[u32],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 10)] texcoords: &[shared::surface::TriangleTexcoords],
         ], [
             scene: shared::scene::Scene {
                 caster: shared::cwbvh::WideBvh { nodes, triangles },
@@ -294,6 +302,10 @@ macro_rules! stage {
                 punctual,
                 environment: &environment[0],
                 environment_map,
+                material_textures,
+                textures,
+                texels,
+                texcoords,
             },
         ]);
         impl<$lt, $r: shared::ray_caster::RayCaster + Copy> $io<$lt, $r> {

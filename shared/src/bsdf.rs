@@ -71,8 +71,9 @@ pub struct Material {
     pub specular: f32,
     /// `KHR_materials_specular`'s specularColorFactor.
     pub specular_color: [f32; 3],
-    /// Padding to 80 bytes.
-    pub _pad: u32,
+    /// Index of the material's textures in the scene's `material_textures`
+    /// (`crate::surface`); 0: none, the material is the same everywhere.
+    pub textures: u32,
 }
 
 /// The roughness α below which a dielectric is smooth: a GGX lobe that narrow is a mirror to
@@ -84,6 +85,19 @@ impl Material {
     #[inline]
     pub fn is_emissive(&self) -> bool {
         self.emission[0] > 0.0 || self.emission[1] > 0.0 || self.emission[2] > 0.0
+    }
+
+    /// The material with glTF's `metallic` factor and `KHR_materials_transmission`'s
+    /// `transmission` factor mixed as the spec mixes them: mix(dielectric, metal, metallic), the
+    /// dielectric transmitting its transmission factor — so the glass share is
+    /// t = transmission (1 − metallic), and the BRDF share 1 − t is metal by metallic / (1 − t),
+    /// leaving the metal its `metallic` of the whole and the opaque dielectric
+    /// (1 − metallic)(1 − transmission).
+    #[inline]
+    pub fn with_metallic(self, metallic: f32, transmission: f32) -> Material {
+        let t = transmission * (1.0 - metallic);
+        let share = if t < 1.0 { (metallic / (1.0 - t)).min(1.0) } else { 0.0 };
+        Material { transmission: t, metallic: share, ..self }
     }
 
     /// The glTF BRDF of the material's non-transmissive share.

@@ -8,13 +8,16 @@
 //! - [`mutation`]: Kelemen et al.'s small and large steps in primary sample space;
 //! - [`acceptance`]: the Metropolis–Hastings acceptance `a(y|x) = min(1, c(y)/c(x))`;
 //! - [`normalisation`]: the image normalisation b, from the bootstrap and every large step;
-//! - [`discrete`]: drawing an index in proportion to weights;
+//! - [`discrete`]: drawing an index in proportion to weights; [`element`]: a buffer read
+//!   without a panic path;
 //! - [`tree`]: the speculative mutation tree (the paper's §4, Eq. 2 and Eq. 3 generalised);
 //! - [`reject_chain`]: the reject chain of Byrd et al. (the paper's §3.3);
 //! - [`layout`]: SoA indexing and the packed `float4` contribution;
 //! - [`camera`], [`bsdf`] (with [`microfacet`]'s GGX), [`light`], [`punctual`], [`environment`] (both from outside the scene: [`distant`]),
 //!   [`triangle`]: the scene primitives, and
 //!   [`color`]'s luminance;
+//! - [`texture`]: texture lookups from one texel buffer; [`surface`]: the material at a
+//!   surface point, its textures applied;
 //! - [`params`]: what every dispatch of the chains' stages knows;
 //! - [`ray_caster`]: the one seam between the path code and ray casting (and the ray origin
 //!   offset every path code uses), and [`cwbvh`], the
@@ -34,6 +37,7 @@ pub mod color;
 pub mod cwbvh;
 pub mod discrete;
 pub mod distant;
+pub mod element;
 pub mod environment;
 pub mod float;
 pub mod layout;
@@ -52,6 +56,8 @@ pub mod rays;
 pub mod reject_chain;
 pub mod rng;
 pub mod scene;
+pub mod surface;
+pub mod texture;
 pub mod tree;
 pub mod triangle;
 

@@ -17,6 +17,7 @@ use spirv_std::num_traits::Float;
 use glam::{Vec2, Vec3};
 
 use crate::scene::Scene;
+use crate::surface::material_at_barycentrics;
 
 /// The bit of [`LightEntry::light`] that marks a punctual light (the rest is its index among
 /// the scene's punctual lights); without it the entry is a triangle's index.
@@ -110,7 +111,7 @@ pub fn sample_light<R>(scene: &Scene<R>, light_count: u32, u_pick: f32, u_point:
         material: tri.material,
         pdf_area: tri.light_area_pdf,
         pick,
-        emission: Vec3::from_array(scene.materials[tri.material as usize].emission),
+        emission: Vec3::from_array(material_at_barycentrics(scene, entry.light, b).emission),
     }
 }
 

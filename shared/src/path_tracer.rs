@@ -26,6 +26,7 @@ use crate::ray_caster::spawn;
 use crate::ray_caster::RayCaster;
 use crate::rng::{self, RngKey};
 use crate::scene::Scene;
+use crate::surface::material_at;
 use crate::triangle::NO_HIT;
 
 /// What the path tracer's kernel knows (uploaded before each of its rounds: a round adds
@@ -194,8 +195,8 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
             break;
         }
         let tri = scene.triangles[hit.triangle as usize];
-        let m = scene.materials[tri.material as usize];
         let p = origin + d * hit.t;
+        let m = material_at(&scene, hit.triangle, p);
         let n = tri.normal();
         let wo = -d;
         if sigma.max_element() > 0.0 {

@@ -1,11 +1,15 @@
 //! The scene as the kernels see it: a ray caster over the triangles, and the triangles,
-//! materials, punctual lights, environment light and light-selection CDF that shading and light
-//! sampling read (slices of device buffers on the device, of host buffers on the CPU backend).
+//! materials and their textures, punctual lights, environment light and light-selection CDF
+//! that shading and light sampling read (slices of device buffers on the device, of host
+//! buffers on the CPU backend). Every binding holds at least one element, as a device buffer
+//! cannot be empty.
 
 use crate::bsdf::Material;
 use crate::environment::Environment;
 use crate::light::LightEntry;
 use crate::punctual::PunctualLight;
+use crate::surface::{MaterialTextures, TriangleTexcoords};
+use crate::texture::Texture;
 use crate::triangle::Triangle;
 
 /// The scene, over the ray caster `R` (the one seam between the path code and ray casting).
@@ -26,4 +30,13 @@ pub struct Scene<'a, R> {
     pub environment: &'a Environment,
     /// Its texels and CDFs (at least one value, as a device buffer cannot be empty).
     pub environment_map: &'a [f32],
+    /// Indexed by `Material::textures` (entry 0 unused: no textures).
+    pub material_textures: &'a [MaterialTextures],
+    /// Indexed by `TextureRef::texture` (one zeroed entry when there are none).
+    pub textures: &'a [Texture],
+    /// Every texture's texels (`crate::texture`; one zero when there are none).
+    pub texels: &'a [u32],
+    /// Per triangle in the triangles' order where any material has textures; one zeroed entry
+    /// otherwise.
+    pub texcoords: &'a [TriangleTexcoords],
 }

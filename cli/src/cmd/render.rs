@@ -126,7 +126,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         None => PathBuf::from("smlt.exr"),
     });
     smlt::output::check_writable(&out)?;
+    let loading = std::time::Instant::now();
     let (scene, scene_hash) = a.scene.load()?;
+    let load_seconds = loading.elapsed().as_secs_f64();
     let budget = match (a.time, a.mutations_per_pixel) {
         (Some(t), _) => Budget::Seconds(t),
         (None, Some(m)) => Budget::MutationsPerPixel(m),
@@ -186,6 +188,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         settings.height,
         settings.method()
     );
+    println!("scene: {}, loaded in {load_seconds:.2} s", scene.describe_contents());
     if let Some(env) = a.scene.environment.spec() {
         let e = &scene.environment;
         println!("lit by environment {} ({} × {} texels)", env.describe(), e.width, e.height);

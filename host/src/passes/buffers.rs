@@ -14,6 +14,8 @@ use shared::light::LightEntry;
 use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex};
 use shared::params::{RenderParams, ESTIMATOR_PATH};
 use shared::punctual::PunctualLight;
+use shared::surface::{MaterialTextures, TriangleTexcoords};
+use shared::texture::Texture;
 use shared::triangle::Triangle;
 
 use super::{Named, Stage};
@@ -187,6 +189,14 @@ pub struct SceneBuffers<S: Storage> {
     pub environment: S::Of<Environment>,
     /// Its texels and CDFs (at least one value).
     pub environment_map: S::Of<f32>,
+    /// The materials' textures (entry 0 unused).
+    pub material_textures: S::Of<MaterialTextures>,
+    /// The textures (at least one entry).
+    pub textures: S::Of<Texture>,
+    /// Every texture's texels (at least one).
+    pub texels: S::Of<u32>,
+    /// Per triangle where a material has textures (at least one entry).
+    pub texcoords: S::Of<TriangleTexcoords>,
 }
 
 impl<S: Storage> SceneBuffers<S> {
@@ -200,6 +210,10 @@ impl<S: Storage> SceneBuffers<S> {
             punctual: s.copy_of("punctual", "punctual lights", scene.punctual_lights()),
             environment: s.copy_of("environment", "environment light", &[scene.environment]),
             environment_map: s.copy_of("environment_map", "environment map", &scene.environment_map),
+            material_textures: s.copy_of("material_textures", "material textures", &scene.material_textures),
+            textures: s.copy_of("textures", "textures", &scene.textures),
+            texels: s.copy_of("texels", "texels", &scene.texels),
+            texcoords: s.copy_of("texcoords", "texture coordinates", &scene.texcoords),
         }
     }
 

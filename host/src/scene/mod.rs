@@ -27,11 +27,13 @@ mod environment;
 mod lights;
 mod parse;
 mod read;
+mod textures;
 mod validate;
 
 pub use environment::EnvironmentSpec;
 pub use lights::LUMENS_PER_WATT;
 pub use read::{files_hash, read_document, PHONG_EXPONENT_KEY};
+pub use textures::Source;
 
 use glam::Vec3;
 use obvhs::cwbvh::CwBvh;
@@ -43,6 +45,8 @@ use shared::environment::{Environment, EnvironmentMap};
 use shared::light::{light_cdf, LightEntry, ENVIRONMENT, PUNCTUAL};
 use shared::punctual::PunctualLight;
 use shared::scene::Scene;
+use shared::surface::{MaterialTextures, TriangleTexcoords};
+use shared::texture::Texture;
 use shared::triangle::{Triangle, TriangleEdges};
 
 use std::sync::{Arc, OnceLock};
@@ -150,6 +154,15 @@ pub struct SceneData {
     pub environment: Environment,
     /// Its texels and CDFs (one zero without one: a device buffer is never empty).
     pub environment_map: Vec<f32>,
+    /// Indexed by `Material::textures` (entry 0 unused).
+    pub material_textures: Vec<MaterialTextures>,
+    /// The textures (one zeroed entry without any).
+    pub textures: Vec<Texture>,
+    /// Their texels, RGBA8 (one zero without any).
+    pub texels: Vec<u32>,
+    /// Per triangle in `triangles`' order where any material has textures; one zeroed entry
+    /// otherwise.
+    pub texcoords: Vec<TriangleTexcoords>,
     /// The camera of the selected view.
     pub camera: CameraSpec,
     /// Every perspective camera of the file, in scene order (views 1, 2, …).
@@ -169,6 +182,15 @@ pub struct TriangleSoup {
     pub material_of: Vec<u32>,
     /// Indexed by `material_of`.
     pub materials: Vec<Material>,
+    /// Indexed by `Material::textures` (entry 0 unused; empty where no material has textures).
+    pub material_textures: Vec<MaterialTextures>,
+    /// The textures the materials read.
+    pub textures: Vec<Texture>,
+    /// Their texels (`shared::texture`).
+    pub texels: Vec<u32>,
+    /// Texture coordinates of each triangle (zeros where its material has no textures; empty:
+    /// none anywhere).
+    pub texcoords: Vec<TriangleTexcoords>,
     /// The file's punctual lights in world space (a directional light's centre and radius are
     /// set from the scene's bounds when the scene is built).
     pub punctual: Vec<PunctualLight>,
@@ -217,6 +239,10 @@ impl SceneData {
             punctual: self.punctual_lights(),
             environment: &self.environment,
             environment_map: &self.environment_map,
+            material_textures: &self.material_textures,
+            textures: &self.textures,
+            texels: &self.texels,
+            texcoords: &self.texcoords,
         }
     }
 
@@ -267,6 +293,22 @@ impl SceneData {
                 what: format!("view {view} requested, but the scene has {} camera(s)", self.views.len()),
             }),
         }
+    }
+
+    /// What the scene holds, in words for the render summary: its triangles and, where it has
+    /// any, its textures and the memory of their texels.
+    pub fn describe_contents(&self) -> String {
+        let textures = self.material_textures.len().saturating_sub(1);
+        if textures == 0 {
+            return format!("{} triangles", self.triangles.len());
+        }
+        format!(
+            "{} triangles, {} textured material(s) reading {} texture(s) ({:.1} MiB of texels)",
+            self.triangles.len(),
+            textures,
+            self.textures.len(),
+            (self.texels.len() * 4) as f64 / 1048576.0
+        )
     }
 
     /// Ray-origin offset relative to the scene's size.
@@ -364,6 +406,20 @@ impl SceneData {
             t.light_area_pdf = pdf;
         }
         let camera = soup.cameras.first().copied().unwrap_or_else(|| default_camera(lo, hi));
+        // Texture coordinates in the BVH's order, where a material reads them; every texture
+        // buffer holds at least one element.
+        let textured = soup.materials.iter().any(|m| m.textures != 0);
+        let texcoords = if textured && soup.texcoords.len() == soup.triangles.len() {
+            bvh.primitive_indices.iter().map(|&i| soup.texcoords[i as usize]).collect()
+        } else {
+            vec![TriangleTexcoords::default()]
+        };
+        let mut material_textures = soup.material_textures;
+        if material_textures.is_empty() {
+            material_textures.push(MaterialTextures::default());
+        }
+        let textures = if soup.textures.is_empty() { vec![Texture::default()] } else { soup.textures };
+        let texels = if soup.texels.is_empty() { vec![0] } else { soup.texels };
         Ok(SceneData {
             name: name.into(),
             triangles,
@@ -375,6 +431,10 @@ impl SceneData {
             punctual,
             environment,
             environment_map,
+            material_textures,
+            textures,
+            texels,
+            texcoords,
             camera,
             views: soup.cameras,
             bounds: (lo, hi),

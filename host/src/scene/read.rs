@@ -6,8 +6,11 @@ use std::path::Path;
 use glam::{Mat4, Vec3, Vec4Swizzles};
 use shared::bsdf::Material;
 use shared::environment::EnvironmentMap;
+use shared::surface::{MaterialTextures, TriangleTexcoords};
+use shared::texture::TextureRef;
 
 use super::parse::{parse, Parsed};
+use super::textures::{Source, TextureStore};
 use super::{CameraSpec, SceneData, SceneError, TriangleSoup};
 
 /// The material-extras key holding the Phong exponent, e.g. `"extras": {"smlt_phong_exponent": 1e5}`.
@@ -45,7 +48,7 @@ impl SceneData {
                 _ => e,
             }
         })?;
-        Self::from_parsed(parsed, &name, environment)
+        Self::from_parsed(parsed, &name, Some(base), environment)
     }
 
     /// Loads a glTF document held in memory (a .gltf with data URIs, or a .glb).
@@ -61,17 +64,25 @@ impl SceneData {
     ) -> Result<Self, SceneError> {
         precheck(bytes, name)?;
         let parsed = guarded(name, || parse(bytes, name, None))??;
-        Self::from_parsed(parsed, name, environment)
+        Self::from_parsed(parsed, name, None, environment)
     }
 
     /// The scene of a parsed document.
     fn from_parsed(
         parsed: Parsed,
         name: &str,
+        base: Option<&Path>,
         environment: Option<EnvironmentMap>,
     ) -> Result<Self, SceneError> {
         check(&parsed.doc, &parsed.buffers, name)?;
-        let mut soup = read_document(&parsed.doc, &parsed.buffers, &parsed.placeholders, name)?;
+        let source = Source {
+            doc: &parsed.doc,
+            buffers: &parsed.buffers,
+            placeholders: &parsed.placeholders,
+            base,
+            name,
+        };
+        let mut soup = read_document(&source)?;
         soup.environment = environment;
         let mut scene = Self::from_soup(soup, name)?;
         scene.warnings.extend(parsed.warnings);
@@ -154,42 +165,88 @@ fn missing_resource(path: &Path) -> Option<String> {
         gltf::buffer::Source::Uri(uri) => Some(uri.to_string()),
         gltf::buffer::Source::Bin => None,
     });
-    let images = gltf.images().filter_map(|i| match i.source() {
-        gltf::image::Source::Uri { uri, .. } => Some(uri.to_string()),
-        gltf::image::Source::View { .. } => None,
-    });
-    buffers.chain(images).find(|uri| !uri.starts_with("data:") && !dir.join(uri).exists())
+    // Images from the JSON: the crate's accessor panics on an image without a source.
+    let images = gltf.as_json().images.iter().filter_map(|i| i.uri.clone());
+    buffers.chain(images).find(|uri| {
+        let file = urlencoding::decode(uri).map(|p| dir.join(p.as_ref())).unwrap_or_else(|_| dir.join(uri));
+        !uri.starts_with("data:") && !file.exists()
+    })
 }
 
-/// A hash of a glTF file and every external buffer it refers to (what a cache or a part file
-/// must change with: a changed `.bin` changes the scene).
+/// A hash of a glTF file and every external buffer and image it refers to (what a cache or a
+/// part file must change with: a changed `.bin` or texture changes the scene).
 pub fn files_hash(path: &Path) -> Result<String, SceneError> {
     let fail = |reason: String| SceneError::Load { path: path.display().to_string(), reason };
     let mut bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
     if let Ok(gltf) = gltf::Gltf::from_slice(&bytes) {
         let dir = path.parent().unwrap_or(Path::new("."));
-        let uris: Vec<String> = gltf
-            .buffers()
-            .filter_map(|b| match b.source() {
-                gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => Some(uri.to_string()),
-                _ => None,
-            })
-            .collect();
-        for uri in uris {
-            bytes.extend(std::fs::read(dir.join(&uri)).map_err(|e| fail(format!("{uri}: {e}")))?);
+        let buffers = gltf.buffers().filter_map(|b| match b.source() {
+            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => Some(uri.to_string()),
+            _ => None,
+        });
+        // Images read from the JSON: the crate's accessor panics on an image without a source.
+        let images =
+            gltf.as_json().images.iter().filter_map(|i| i.uri.clone()).filter(|u| !u.starts_with("data:"));
+        for uri in buffers.chain(images).collect::<Vec<_>>() {
+            let file =
+                urlencoding::decode(&uri).map(|p| dir.join(p.as_ref())).unwrap_or_else(|_| dir.join(&uri));
+            // A missing image is the loader's to report (or to leave out, if no material reads it).
+            match std::fs::read(&file) {
+                Ok(data) => bytes.extend(data),
+                Err(e)
+                    if gltf
+                        .buffers()
+                        .any(|b| matches!(b.source(), gltf::buffer::Source::Uri(u) if u == uri)) =>
+                {
+                    return Err(fail(format!("{uri}: {e}")))
+                }
+                Err(_) => bytes.extend(uri.as_bytes()),
+            }
         }
     }
     Ok(crate::hash::content_hash(&bytes))
 }
 
-fn read_material(m: &gltf::Material, warnings: &mut Vec<String>, name: &str) -> Result<Material, SceneError> {
+/// A material, and its textures where it has any (`Material::textures` is set by the caller).
+fn read_material(
+    m: &gltf::Material,
+    store: &mut TextureStore,
+    source: &Source,
+    warnings: &mut Vec<String>,
+) -> Result<(Material, Option<MaterialTextures>), SceneError> {
+    let name = source.name;
     let label =
         m.name().map(|n| format!("material '{n}'")).unwrap_or_else(|| format!("material {:?}", m.index()));
     let pbr = m.pbr_metallic_roughness();
     let base = pbr.base_color_factor();
-    if pbr.base_color_texture().is_some() || m.emissive_texture().is_some() || m.normal_texture().is_some() {
-        warnings.push(format!("{label}: textures are ignored (only factors are modelled)"));
+    let at = m.index().map(|i| format!("materials[{i}]")).unwrap_or_else(|| label.clone());
+    if m.normal_texture().is_some() {
+        warnings.push(format!("{label}: normalTexture is ignored (shading uses the geometric normal)"));
     }
+    if m.occlusion_texture().is_some() {
+        warnings.push(format!(
+            "{label}: occlusionTexture is ignored (a path tracer computes occlusion; the texture is an approximation of it)"
+        ));
+    }
+    let mut slot = |info: Option<gltf::texture::Info>, path: &str, warnings: &mut Vec<String>| match info {
+        Some(info) => store.reference(source, &info, &format!("{at}.{path}"), warnings),
+        None => Ok(TextureRef::NONE),
+    };
+    let textures = MaterialTextures {
+        base_color: slot(pbr.base_color_texture(), "pbrMetallicRoughness.baseColorTexture", warnings)?,
+        metallic_roughness: slot(
+            pbr.metallic_roughness_texture(),
+            "pbrMetallicRoughness.metallicRoughnessTexture",
+            warnings,
+        )?,
+        emissive: slot(m.emissive_texture(), "emissiveTexture", warnings)?,
+        metallic: pbr.metallic_factor(),
+        roughness: pbr.roughness_factor(),
+        transmission: m.transmission().map_or(0.0, |t| t.transmission_factor()),
+        _pad: 0.0,
+    };
+    let textured =
+        textures.base_color.is_some() || textures.metallic_roughness.is_some() || textures.emissive.is_some();
     let strength = m.emissive_strength().unwrap_or(1.0);
     let e = m.emissive_factor();
     let mut phong = 0.0f32;
@@ -209,7 +266,6 @@ fn read_material(m: &gltf::Material, warnings: &mut Vec<String>, name: &str) -> 
         }
     }
     let glass = read_glass(m, &label, warnings, name)?;
-    let at = m.index().map(|i| format!("materials[{i}]")).unwrap_or_else(|| label.clone());
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}.{what}") };
     let unit = |x: f32| (0.0..=1.0).contains(&x);
     let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
@@ -243,24 +299,17 @@ fn read_material(m: &gltf::Material, warnings: &mut Vec<String>, name: &str) -> 
             ));
         }
     }
-    let transmission = glass.transmission * (1.0 - metallic);
-    if pbr.metallic_roughness_texture().is_some() {
-        warnings.push(format!("{label}: metallicRoughnessTexture is ignored (its factors are used)"));
-    }
-    Ok(Material {
+    let material = Material {
         albedo: [base[0], base[1], base[2]],
         phong_exponent: phong,
         emission: [e[0] * strength, e[1] * strength, e[2] * strength],
-        // The spec's mix(dielectric, metal, metallic), the dielectric transmitting its
-        // transmissionFactor: glass t = tr (1 − m), and the BRDF share 1 − t is metal by
-        // m / (1 − t), so that metal keeps m and the opaque dielectric (1 − m)(1 − tr).
-        transmission,
         alpha: roughness * roughness,
-        metallic: if transmission < 1.0 { (metallic / (1.0 - transmission)).min(1.0) } else { 0.0 },
         specular,
         specular_color,
         ..glass
-    })
+    }
+    .with_metallic(metallic, glass.transmission);
+    Ok((material, textured.then_some(textures)))
 }
 
 /// The dielectric of a material (`KHR_materials_transmission`, `_ior`, `_volume`) as the
@@ -331,12 +380,8 @@ fn read_glass(
 }
 
 /// Reads the triangles, materials and camera of a glTF document.
-pub fn read_document(
-    doc: &gltf::Document,
-    buffers: &[gltf::buffer::Data],
-    placeholders: &[usize],
-    name: &str,
-) -> Result<TriangleSoup, SceneError> {
+pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
+    let (doc, buffers, placeholders, name) = (source.doc, source.buffers, source.placeholders, source.name);
     let mut soup = TriangleSoup::default();
     for ext in doc.extensions_used() {
         if ![
@@ -346,6 +391,7 @@ pub fn read_document(
             "KHR_materials_ior",
             "KHR_materials_volume",
             "KHR_materials_specular",
+            "KHR_texture_transform",
         ]
         .contains(&ext)
         {
@@ -363,10 +409,19 @@ pub fn read_document(
         specular_color: [1.0; 3],
         ..Default::default()
     });
+    // Entry 0 of the material textures is never used (`Material::textures` 0: none).
+    soup.material_textures.push(MaterialTextures::default());
+    let mut store = TextureStore::default();
     for m in doc.materials() {
-        let mat = read_material(&m, &mut soup.warnings, name)?;
+        let (mut mat, textures) = read_material(&m, &mut store, source, &mut soup.warnings)?;
+        if let Some(t) = textures {
+            mat.textures = soup.material_textures.len() as u32;
+            soup.material_textures.push(t);
+        }
         soup.materials.push(mat);
     }
+    soup.textures = store.textures;
+    soup.texels = store.texels;
     let scene =
         doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| SceneError::Empty(name.into()))?;
     // glTF's node hierarchy is a set of disjoint trees: a node reached twice has two parents or
@@ -493,6 +548,7 @@ pub fn read_document(
                     (None, None) => (0..positions.len() as u32).collect(),
                 };
                 let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
+                let texcoords = read_texcoords(&reader, &prim, &soup, material, &at, positions.len(), name)?;
                 let (triples, rest) = indices.as_chunks::<3>();
                 if !rest.is_empty() {
                     soup.warnings.push(format!(
@@ -511,12 +567,26 @@ pub fn read_document(
                             ))
                         })?;
                     }
+                    let mut corners = [tri[0], tri[1], tri[2]];
                     // A mirroring transform flips the winding; keep the normal's sense.
                     if world.determinant() < 0.0 {
                         v.swap(1, 2);
+                        corners.swap(1, 2);
                     }
                     soup.triangles.push(v);
                     soup.material_of.push(material);
+                    if let Some(sets) = &texcoords {
+                        let mut uv = [0.0f32; 12];
+                        for (set, coords) in sets.iter().enumerate() {
+                            for (k, &i) in corners.iter().enumerate() {
+                                let c = coords.get(i as usize).copied().unwrap_or_default();
+                                uv[6 * set + 2 * k..6 * set + 2 * k + 2].copy_from_slice(&c);
+                            }
+                        }
+                        soup.texcoords.push(TriangleTexcoords { uv });
+                    } else {
+                        soup.texcoords.push(TriangleTexcoords::default());
+                    }
                 }
             }
         }
@@ -524,4 +594,63 @@ pub fn read_document(
         stack.extend(children.into_iter().rev());
     }
     Ok(soup)
+}
+
+/// The texture coordinates a primitive's textured material reads (`TEXCOORD_0` and, where a
+/// texture of the material uses it, `TEXCOORD_1`; a set it does not use is zeros), or None for
+/// a material without textures. A set the material uses and the primitive lacks is refused, as
+/// the Khronos validator does.
+fn read_texcoords<'a, 's, F>(
+    reader: &gltf::mesh::Reader<'a, 's, F>,
+    prim: &gltf::Primitive,
+    soup: &TriangleSoup,
+    material: u32,
+    at: &str,
+    vertices: usize,
+    name: &str,
+) -> Result<Option<[Vec<[f32; 2]>; 2]>, SceneError>
+where
+    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+{
+    let textures = soup.materials[material as usize].textures;
+    if textures == 0 {
+        return Ok(None);
+    }
+    let t = &soup.material_textures[textures as usize];
+    let mut sets = [Vec::new(), Vec::new()];
+    for (set, coords) in sets.iter_mut().enumerate() {
+        let uses = [t.base_color, t.metallic_roughness, t.emissive]
+            .iter()
+            .any(|r| r.is_some() && r.tex_coord == set as u32);
+        if !uses {
+            continue;
+        }
+        let Some(accessor) = prim.get(&gltf::Semantic::TexCoords(set as u32)) else {
+            return Err(SceneError::Malformed {
+                path: name.into(),
+                what: format!(
+                    "{at}: its material (materials[{}]) reads TEXCOORD_{set}, which the primitive does not have",
+                    material - 1
+                ),
+            });
+        };
+        *coords = match reader.read_tex_coords(set as u32) {
+            Some(c) => c.into_f32().collect(),
+            // No view and no sparse values: zeros, as the spec says.
+            None if accessor.view().is_none() => vec![[0.0; 2]; accessor.count()],
+            None => {
+                return Err(SceneError::Malformed {
+                    path: name.into(),
+                    what: format!("{at}: its TEXCOORD_{set} accessor cannot be read"),
+                })
+            }
+        };
+        if coords.len() < vertices {
+            return Err(SceneError::Malformed {
+                path: name.into(),
+                what: format!("{at}: TEXCOORD_{set} has {} values for {vertices} vertices", coords.len()),
+            });
+        }
+    }
+    Ok(Some(sets))
 }

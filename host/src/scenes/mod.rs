@@ -10,6 +10,7 @@ pub mod nave;
 pub mod slit;
 pub mod sponza_banner;
 pub mod sunblind;
+pub mod textured;
 
 use base64::Engine;
 use glam::{Mat3, Quat, Vec3};
@@ -51,8 +52,8 @@ pub fn sun_below_sky(far: Vec3, half: f32, target: Vec3, y: f32) -> [Vec3; 4] {
 }
 
 /// The names of the generated scenes.
-pub const GENERATED: [&str; 8] =
-    ["cornell", "atrium", "nave", "sunblind", "slit", "lamps", "caustic", "materials"];
+pub const GENERATED: [&str; 9] =
+    ["cornell", "atrium", "nave", "sunblind", "slit", "lamps", "caustic", "materials", "textured"];
 
 /// The embedded default scene (what `smlt scene cornell` writes).
 pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/cornell.gltf");
@@ -116,6 +117,7 @@ pub fn generate(name: &str, tessellation: u32) -> Option<String> {
         "lamps" => Some(lamps::lamps(tessellation)),
         "caustic" => Some(caustic::caustic(tessellation)),
         "materials" => Some(materials::materials(tessellation)),
+        "textured" => Some(textured::textured(tessellation)),
         _ => None,
     }
 }
@@ -132,6 +134,28 @@ pub struct GltfBuilder {
     lights: Vec<(Value, Vec3, Vec3)>,
     /// Every quad is split into n × n quads (1: as given).
     tessellation: u32,
+    /// Per material: its planar texture projection, where it has textures.
+    projections: Vec<Option<Planar>>,
+    /// Images (PNG bytes) and textures (image, sampler JSON).
+    images: Vec<Vec<u8>>,
+    textures: Vec<(usize, Value)>,
+}
+
+/// Texture coordinates by a planar projection: (p · u, p · v) for a vertex at p.
+#[derive(Clone, Copy, Debug)]
+pub struct Planar {
+    #[allow(missing_docs)] // the axes, scaled
+    pub u: Vec3,
+    #[allow(missing_docs)]
+    pub v: Vec3,
+}
+
+/// A PNG of `width` × `height` RGBA8 texels, `texel(x, y)` from the top-left.
+pub fn png(width: u32, height: u32, texel: impl Fn(u32, u32) -> [u8; 4]) -> Vec<u8> {
+    let image = image::RgbaImage::from_fn(width, height, |x, y| image::Rgba(texel(x, y)));
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image.write_to(&mut bytes, image::ImageFormat::Png).expect("PNG encoding in memory");
+    bytes.into_inner()
 }
 
 impl GltfBuilder {
@@ -218,6 +242,36 @@ impl GltfBuilder {
         }));
         self.geometry.push(Vec::new());
         self.materials.len() - 1
+    }
+
+    /// Gives `material` a texture in `slot` (`baseColorTexture`, `metallicRoughnessTexture` or
+    /// `emissiveTexture`): a PNG, its sampler's JSON and an optional `KHR_texture_transform`,
+    /// read with TEXCOORD_0, which the material's meshes get from `projection`.
+    pub fn texture(
+        &mut self,
+        material: usize,
+        slot: &str,
+        png: Vec<u8>,
+        sampler: Value,
+        transform: Option<Value>,
+        projection: Planar,
+    ) {
+        self.images.push(png);
+        self.textures.push((self.images.len() - 1, sampler));
+        let mut info = json!({"index": self.textures.len() - 1});
+        if let Some(t) = transform {
+            info["extensions"] = json!({"KHR_texture_transform": t});
+        }
+        let m = &mut self.materials[material];
+        if slot == "emissiveTexture" {
+            m[slot] = info;
+        } else {
+            m["pbrMetallicRoughness"][slot] = info;
+        }
+        if self.projections.len() < self.materials.len() {
+            self.projections.resize(self.materials.len(), None);
+        }
+        self.projections[material] = Some(projection);
     }
 
     /// Makes the glass `material` ([`GltfBuilder::glass`]) rough: its `roughnessFactor` (a
@@ -367,9 +421,23 @@ impl GltfBuilder {
                 "bufferView": views.len() - 1, "componentType": 5126, "count": tris.len(),
                 "type": "VEC3", "min": lo, "max": hi
             }));
+            let mut attributes = json!({"POSITION": accessors.len() - 1});
+            if let Some(Some(proj)) = self.projections.get(m) {
+                let offset = bytes.len();
+                for v in tris {
+                    let p = Vec3::from_array(*v);
+                    bytes.extend_from_slice(&p.dot(proj.u).to_le_bytes());
+                    bytes.extend_from_slice(&p.dot(proj.v).to_le_bytes());
+                }
+                views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": tris.len() * 8}));
+                accessors.push(json!({
+                    "bufferView": views.len() - 1, "componentType": 5126, "count": tris.len(), "type": "VEC2"
+                }));
+                attributes["TEXCOORD_0"] = json!(accessors.len() - 1);
+            }
             meshes.push(json!({
                 "name": self.materials[m]["name"],
-                "primitives": [{"attributes": {"POSITION": accessors.len() - 1}, "material": m}]
+                "primitives": [{"attributes": attributes, "material": m}]
             }));
             nodes.push(json!({"mesh": meshes.len() - 1}));
         }
@@ -416,6 +484,22 @@ impl GltfBuilder {
         if !cameras.is_empty() {
             doc["cameras"] = Value::Array(cameras);
         }
+        if !self.textures.is_empty() {
+            let png = |b: &Vec<u8>| json!({"uri": format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(b))});
+            doc["images"] = Value::Array(self.images.iter().map(png).collect());
+            doc["samplers"] = Value::Array(self.textures.iter().map(|(_, s)| s.clone()).collect());
+            doc["textures"] = Value::Array(
+                self.textures
+                    .iter()
+                    .enumerate()
+                    .map(|(i, (image, _))| json!({"source": image, "sampler": i}))
+                    .collect(),
+            );
+            let transforms = self.materials.iter().any(|m| m.to_string().contains("KHR_texture_transform"));
+            if transforms {
+                material_extensions.push("KHR_texture_transform".into());
+            }
+        }
         let mut used: Vec<&str> = material_extensions.iter().map(String::as_str).collect();
         if !lights.is_empty() {
             // As Blender's exporter writes them: a reader that ignored the lights would render
@@ -434,6 +518,7 @@ impl GltfBuilder {
     /// scene gets the new nodes; the new cameras follow the document's own, as further views).
     pub fn merge_into(&self, base: &mut Value) {
         assert!(self.lights.is_empty(), "merging punctual lights into a document is not implemented");
+        assert!(self.textures.is_empty(), "merging textures into a document is not implemented");
         let add = self.to_value();
         let count = |doc: &Value, key: &str| doc.get(key).and_then(Value::as_array).map_or(0, Vec::len);
         let offsets: Vec<(&str, usize)> =

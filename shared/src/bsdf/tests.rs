@@ -423,3 +423,21 @@ fn partial_rough_transmission_mixes_with_lambert() {
     let f = bsdf_eval(&m, n, wo, wi, true);
     assert!((f - (glass_only + diffuse - Vec3::splat(0.6 / PI))).abs().max_element() < 1e-5, "{f}");
 }
+
+/// The spec's mix of metal, opaque dielectric and glass: shares m, (1 − m)(1 − tr) and
+/// (1 − m) tr of the whole, whatever the factors.
+#[test]
+fn metallic_and_transmission_mix_as_the_spec_does() {
+    for (m, tr) in [(0.0, 0.0), (1.0, 0.0), (0.3, 0.0), (0.0, 1.0), (0.3, 0.6), (1.0, 1.0), (0.7, 0.25)] {
+        let mat = Material::default().with_metallic(m, tr);
+        let glass = mat.transmission;
+        let metal = (1.0 - glass) * mat.metallic;
+        let dielectric = (1.0 - glass) * (1.0 - mat.metallic);
+        assert!((metal - m).abs() < 1e-6, "metal {metal} for ({m}, {tr})");
+        assert!((glass - (1.0 - m) * tr).abs() < 1e-6, "glass {glass} for ({m}, {tr})");
+        assert!(
+            (dielectric - (1.0 - m) * (1.0 - tr)).abs() < 1e-6,
+            "dielectric {dielectric} for ({m}, {tr})"
+        );
+    }
+}

@@ -8,12 +8,13 @@ use spirv_std::num_traits::Float;
 use core::f32::consts::PI;
 use glam::Vec3;
 
-use crate::bsdf::{bsdf_eval, bsdf_pdf};
+use crate::bsdf::{bsdf_eval, bsdf_pdf, Material};
 use crate::camera::Camera;
 use crate::layout::soa_index;
 use crate::light::{emitted, is_environment, is_punctual, punctual_index};
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
+use crate::surface::material_at;
 
 use crate::light::sample_light;
 use crate::params::RenderParams;
@@ -22,13 +23,15 @@ use crate::ray_caster::spawn;
 use super::*;
 
 /// The density of `from` (with predecessor `before`, or a light origin when `from` is a
-/// light endpoint) generating `to`, as an area density at `to`.
+/// light endpoint; `material` its material where it is a surface vertex) generating `to`, as
+/// an area density at `to`.
 #[inline]
 fn vertex_pdf<R: RayCaster>(
     scene: Scene<R>,
     camera: &Camera,
     before: Vec3,
     from: &PathVertex,
+    material: &Material,
     to: &PathVertex,
 ) -> f32 {
     let p = from.position();
@@ -53,13 +56,24 @@ fn vertex_pdf<R: RayCaster>(
     } else if from.kind == KIND_LIGHT {
         from.normal().dot(w).max(0.0) / PI
     } else {
-        let m = scene.materials[from.material as usize];
-        bsdf_pdf(&m, from.normal(), (before - p).normalize_or_zero(), w)
+        bsdf_pdf(material, from.normal(), (before - p).normalize_or_zero(), w)
     };
     if infinite {
         return pdf_dir;
     }
     convert_density(pdf_dir, p, to.position(), to.normal(), to.kind != KIND_CAMERA)
+}
+
+/// The material at a surface vertex (`crate::surface`: its textures at the vertex's position);
+/// a default one for any other vertex. Looked up once a vertex in the stage (each lookup is a
+/// copy of the texture code in the device module).
+#[inline]
+fn surface_material<R: RayCaster>(scene: Scene<R>, v: &PathVertex) -> Material {
+    if v.kind == KIND_SURFACE {
+        material_at(&scene, v.triangle, v.position())
+    } else {
+        Material::default()
+    }
 }
 
 /// Density of a camera-subpath end point `pt` that lies on a light being the light's origin:
@@ -125,17 +139,19 @@ pub fn connect_candidate<R: RayCaster>(
     let pt_minus = if t >= 2 { at(0, t - 2) } else { zero };
     let mut qs = if s >= 2 { at(1, s - 1) } else { zero };
     let qs_minus = if s >= 2 { at(1, s - 2) } else { zero };
+    // The materials at the two end points (s = 1 resamples qs on a light, which has none).
+    let mat_pt = surface_material(scene, &pt);
+    let mat_qs = surface_material(scene, &qs);
     let mut l = Vec3::ZERO;
     // The pick probability of the light resampled for s = 1.
     let mut pick = 0.0f32;
     if s == 0 {
         // The camera subpath found a light by itself: an emitter, or the environment.
-        let m = scene.materials[pt.material as usize];
         if is_at_infinity(&pt) {
             l = pt.throughput() * scene.environment.radiance(scene.environment_map, -pt.normal());
-        } else if pt.kind == KIND_SURFACE && m.is_emissive() {
+        } else if pt.kind == KIND_SURFACE && mat_pt.is_emissive() {
             let w = (pt_minus.position() - pt.position()).normalize_or_zero();
-            l = pt.throughput() * emitted(Vec3::from_array(m.emission), pt.normal(), w);
+            l = pt.throughput() * emitted(Vec3::from_array(mat_pt.emission), pt.normal(), w);
         }
     } else {
         if s == 1 {
@@ -176,8 +192,7 @@ pub fn connect_candidate<R: RayCaster>(
                         Vec3::ZERO
                     }
                 } else {
-                    let m = scene.materials[qs.material as usize];
-                    bsdf_eval(&m, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), w, false)
+                    bsdf_eval(&mat_qs, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), w, false)
                 };
                 let g = qs.normal().dot(w).abs() * r.cos_theta / dist2;
                 l = qs.throughput() * f * (cam.importance(-w) * g);
@@ -195,8 +210,8 @@ pub fn connect_candidate<R: RayCaster>(
             // The light's end of the connection: far along the direction (where the shadow ray
             // ends).
             qs.p = scene.environment.beyond(pp, wi).to_array();
-            let mp = scene.materials[pt.material as usize];
-            let f_pt = bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), wi, true);
+            let f_pt =
+                bsdf_eval(&mat_pt, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), wi, true);
             // qs.beta = L / (pick · p_ω).
             l = pt.throughput() * f_pt * qs.throughput() * pt.normal().dot(wi).abs();
         } else if pt.kind == KIND_SURFACE && punctual_light {
@@ -205,9 +220,8 @@ pub fn connect_candidate<R: RayCaster>(
             // The light's end of the connection: its position, or far along a directional
             // light's direction (where the shadow ray ends and the reverse densities look from).
             qs.p = inc.from.to_array();
-            let mp = scene.materials[pt.material as usize];
             let f_pt =
-                bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), inc.wi, true);
+                bsdf_eval(&mat_pt, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), inc.wi, true);
             if pick > 0.0 {
                 l = pt.throughput() * f_pt * inc.radiance * (pt.normal().dot(inc.wi).abs() / pick);
             }
@@ -217,9 +231,8 @@ pub fn connect_candidate<R: RayCaster>(
             let dist2 = to_q.length_squared();
             if dist2 > 0.0 {
                 let w = to_q / dist2.sqrt();
-                let mp = scene.materials[pt.material as usize];
                 let f_pt =
-                    bsdf_eval(&mp, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), w, true);
+                    bsdf_eval(&mat_pt, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), w, true);
                 let f_qs = if s == 1 {
                     if qs.normal().dot(-w) > 0.0 {
                         Vec3::ONE
@@ -227,8 +240,7 @@ pub fn connect_candidate<R: RayCaster>(
                         Vec3::ZERO
                     }
                 } else {
-                    let mq = scene.materials[qs.material as usize];
-                    bsdf_eval(&mq, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), -w, false)
+                    bsdf_eval(&mat_qs, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), -w, false)
                 };
                 let g = pt.normal().dot(w).abs() * qs.normal().dot(w).abs() / dist2;
                 l = pt.throughput() * f_pt * f_qs * qs.throughput() * g;
@@ -253,7 +265,8 @@ pub fn connect_candidate<R: RayCaster>(
     if !(l.max_element() > 0.0) && !l.is_nan() {
         return Connection { contribution: Vec3::ZERO, pixel, mis_weight: 0.0 };
     }
-    let w = mis_weight(params, scene, samples, vertices, s, t, &pt, &pt_minus, &qs, &qs_minus);
+    let ends = [(pt, mat_pt), (qs, mat_qs)];
+    let w = mis_weight(params, scene, samples, vertices, s, t, ends, &pt_minus, &qs_minus);
     Connection { contribution: l * (w * (info.depth + 2) as f32), pixel, mis_weight: w }
 }
 
@@ -267,32 +280,35 @@ fn mis_weight<R: RayCaster>(
     vertices: &[PathVertex],
     s: u32,
     t: u32,
-    pt: &PathVertex,
+    ends: [(PathVertex, Material); 2],
     pt_minus: &PathVertex,
-    qs: &PathVertex,
     qs_minus: &PathVertex,
 ) -> f32 {
     let max_depth = params.max_depth;
     let cam = params.camera;
+    // The connection's end points and their materials.
+    let [(pt, mat_pt), (qs, mat_qs)] = ends;
+    let (pt, qs, mat_pt, mat_qs) = (&pt, &qs, &mat_pt, &mat_qs);
     // Reverse densities that the connection changes.
     let pt_rev = if s > 0 {
-        vertex_pdf(scene, &cam, qs_minus.position(), qs, pt)
+        vertex_pdf(scene, &cam, qs_minus.position(), qs, mat_qs, pt)
     } else {
         light_origin_pdf(scene, pt)
     };
     let pt_minus_rev = if t >= 2 {
         if s > 0 {
-            vertex_pdf(scene, &cam, qs.position(), pt, pt_minus)
+            vertex_pdf(scene, &cam, qs.position(), pt, mat_pt, pt_minus)
         } else {
             // pt lies on a light: its density of emitting towards pt−.
             let as_light = PathVertex { kind: KIND_LIGHT, ..*pt };
-            vertex_pdf(scene, &cam, Vec3::ZERO, &as_light, pt_minus)
+            vertex_pdf(scene, &cam, Vec3::ZERO, &as_light, mat_pt, pt_minus)
         }
     } else {
         0.0
     };
-    let qs_rev = if s > 0 { vertex_pdf(scene, &cam, pt_minus.position(), pt, qs) } else { 0.0 };
-    let qs_minus_rev = if s >= 2 { vertex_pdf(scene, &cam, pt.position(), qs, qs_minus) } else { 0.0 };
+    let qs_rev = if s > 0 { vertex_pdf(scene, &cam, pt_minus.position(), pt, mat_pt, qs) } else { 0.0 };
+    let qs_minus_rev =
+        if s >= 2 { vertex_pdf(scene, &cam, pt.position(), qs, mat_qs, qs_minus) } else { 0.0 };
     // A path that starts on a punctual light has no s = 0 technique (no ray hits a delta).
     let light_origin = if s == 1 {
         qs.triangle

@@ -9,6 +9,7 @@ use crate::layout::soa_index;
 use crate::light::{is_environment, is_punctual, punctual_index, sample_light, LightPoint, ENVIRONMENT};
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
+use crate::surface::material_at;
 
 use crate::params::RenderParams;
 use crate::ray_caster::spawn;
@@ -128,7 +129,7 @@ fn random_walk<R: RayCaster>(
         if count >= max_vertices {
             break;
         }
-        let m = scene.materials[tri.material as usize];
+        let m = material_at(&scene, hit.triangle, p);
         let wo = -d;
         let bounce = count - 2;
         let bs =

@@ -1,0 +1,255 @@
+//! glTF's textures read into the one texel store the kernels sample (`shared::texture`): each
+//! image decoded once (PNG and JPEG, the two the spec defines, through the `image` crate) to
+//! RGBA8, each texture (an image with a sampler) once however many materials use it. Only the
+//! textures a material reads are loaded.
+//!
+//! What is read of a sampler: its wrap modes, and its magnification filter (NEAREST, or
+//! bilinear for LINEAR and by default); its minification filter is not (no mip-maps: a path
+//! tracer's pixel samples filter a minified texture, see `shared::texture`). An image in
+//! another encoding (KTX2, WebP, an extension's source) is not read: the texture is left out
+//! with a warning naming it, and its factor is used. An image that claims PNG or JPEG and
+//! does not decode is refused by name.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use base64::Engine;
+use shared::texture::{
+    texture_transform, Texture, TextureRef, IDENTITY, WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
+};
+
+use super::SceneError;
+
+/// The textures and texels read so far.
+#[derive(Default)]
+pub struct TextureStore {
+    /// In the order first used (`TextureRef::texture` indexes them).
+    pub textures: Vec<Texture>,
+    /// Every image's texels, RGBA8 packed red-first.
+    pub texels: Vec<u32>,
+    /// glTF texture index → its entry (None: not readable, warned).
+    loaded: HashMap<usize, Option<u32>>,
+    /// glTF image index → (offset, width, height) in `texels`.
+    images: HashMap<usize, (u32, u32, u32)>,
+}
+
+/// What a texture is read from.
+pub struct Source<'a> {
+    #[allow(missing_docs)] // the document
+    pub doc: &'a gltf::Document,
+    /// Every buffer's bytes.
+    pub buffers: &'a [gltf::buffer::Data],
+    /// Buffers whose data is not in the file.
+    pub placeholders: &'a [usize],
+    /// The folder external images lie in (None: a document held in memory).
+    pub base: Option<&'a Path>,
+    /// The scene's name for messages.
+    pub name: &'a str,
+}
+
+impl TextureStore {
+    /// The reference of a material's texture slot `slot` (its glTF path, for messages), or
+    /// [`TextureRef::NONE`] where the image cannot be read (warned).
+    pub fn reference(
+        &mut self,
+        source: &Source,
+        info: &gltf::texture::Info,
+        slot: &str,
+        warnings: &mut Vec<String>,
+    ) -> Result<TextureRef, SceneError> {
+        let transform = info.texture_transform();
+        let tex_coord = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(info.tex_coord());
+        self.reference_of(source, info.texture().index(), tex_coord, transform, slot, warnings)
+    }
+
+    /// [`TextureStore::reference`] for texture `texture` read with `TEXCOORD_<tex_coord>` and
+    /// `KHR_texture_transform`'s `transform`.
+    pub fn reference_of(
+        &mut self,
+        source: &Source,
+        texture: usize,
+        tex_coord: u32,
+        transform: Option<gltf::texture::TextureTransform>,
+        slot: &str,
+        warnings: &mut Vec<String>,
+    ) -> Result<TextureRef, SceneError> {
+        if tex_coord > 1 {
+            return Err(SceneError::Unsupported {
+                path: source.name.into(),
+                what: format!("{slot}: texCoord {tex_coord} (smlt reads TEXCOORD_0 and TEXCOORD_1)"),
+            });
+        }
+        let transform = match transform {
+            Some(t) => {
+                let m = texture_transform(t.offset(), t.rotation(), t.scale());
+                if !m.iter().all(|x| x.is_finite()) {
+                    return Err(SceneError::Malformed {
+                        path: source.name.into(),
+                        what: format!("{slot}.extensions.KHR_texture_transform: not finite"),
+                    });
+                }
+                m
+            }
+            None => IDENTITY,
+        };
+        let Some(index) = self.load(source, texture, slot, warnings)? else {
+            return Ok(TextureRef::NONE);
+        };
+        Ok(TextureRef { texture: index, tex_coord, transform })
+    }
+
+    /// The store's entry of glTF texture `texture`, loading it at its first use.
+    fn load(
+        &mut self,
+        source: &Source,
+        texture: usize,
+        slot: &str,
+        warnings: &mut Vec<String>,
+    ) -> Result<Option<u32>, SceneError> {
+        if let Some(entry) = self.loaded.get(&texture) {
+            return Ok(*entry);
+        }
+        let entry = self.read(source, texture, slot, warnings)?;
+        self.loaded.insert(texture, entry);
+        Ok(entry)
+    }
+
+    fn read(
+        &mut self,
+        source: &Source,
+        texture: usize,
+        slot: &str,
+        warnings: &mut Vec<String>,
+    ) -> Result<Option<u32>, SceneError> {
+        let json = source.doc.as_json();
+        let tex = &json.textures[texture];
+        let image = tex.source.value();
+        if image >= json.images.len() {
+            warnings.push(format!(
+                "textures[{texture}] (used by {slot}) has no image smlt reads (its source comes from an extension): its factor is used"
+            ));
+            return Ok(None);
+        }
+        let (offset, width, height) = match self.images.get(&image) {
+            Some(&found) => found,
+            None => match self.decode(source, image, slot, warnings)? {
+                Some(found) => {
+                    self.images.insert(image, found);
+                    found
+                }
+                None => return Ok(None),
+            },
+        };
+        let sampler = tex.sampler.map(|s| &json.samplers[s.value()]);
+        let wrap = |mode: Option<&gltf::json::validation::Checked<gltf::json::texture::WrappingMode>>| {
+            use gltf::json::texture::WrappingMode::*;
+            use gltf::json::validation::Checked::Valid;
+            match mode {
+                Some(Valid(ClampToEdge)) => WRAP_CLAMP,
+                Some(Valid(MirroredRepeat)) => WRAP_MIRROR,
+                _ => WRAP_REPEAT,
+            }
+        };
+        let nearest = matches!(
+            sampler.and_then(|s| s.mag_filter),
+            Some(gltf::json::validation::Checked::Valid(gltf::json::texture::MagFilter::Nearest))
+        );
+        let sampler =
+            Texture::sampler(wrap(sampler.map(|s| &s.wrap_s)), wrap(sampler.map(|s| &s.wrap_t)), nearest);
+        self.textures.push(Texture { offset, width, height, sampler });
+        Ok(Some(self.textures.len() as u32 - 1))
+    }
+
+    /// Decodes image `image` into the texels: its (offset, width, height), or None where its
+    /// encoding is not read (warned).
+    fn decode(
+        &mut self,
+        source: &Source,
+        image: usize,
+        slot: &str,
+        warnings: &mut Vec<String>,
+    ) -> Result<Option<(u32, u32, u32)>, SceneError> {
+        let json = &source.doc.as_json().images[image];
+        let at = format!("images[{image}]");
+        let malformed = |what: String| SceneError::Malformed { path: source.name.into(), what };
+        let bytes: Vec<u8> = if let Some(view) = json.buffer_view {
+            let view = source
+                .doc
+                .views()
+                .nth(view.value())
+                .ok_or_else(|| malformed(format!("{at}.bufferView: {} does not exist", view.value())))?;
+            let buffer = view.buffer().index();
+            if source.placeholders.contains(&buffer) {
+                return Err(SceneError::Unsupported {
+                    path: source.name.into(),
+                    what: format!("{at} lies in buffers[{buffer}], whose data could not be read"),
+                });
+            }
+            let data = &source.buffers[buffer].0;
+            data.get(view.offset()..view.offset() + view.length())
+                .ok_or_else(|| malformed(format!("{at}: its bufferView runs past its buffer")))?
+                .to_vec()
+        } else if let Some(uri) = &json.uri {
+            read_uri(uri, source.base).map_err(|reason| SceneError::Load {
+                path: source.name.into(),
+                reason: format!("{at} ('{}'): {reason}", short(uri)),
+            })?
+        } else {
+            return Err(malformed(format!("{at}: neither a uri nor a bufferView")));
+        };
+        let format = match image::guess_format(&bytes) {
+            Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => f,
+            other => {
+                let named = json
+                    .mime_type
+                    .as_ref()
+                    .map(|m| m.0.clone())
+                    .or_else(|| other.ok().map(|f| format!("{f:?}")))
+                    .unwrap_or_else(|| "an encoding that is neither PNG nor JPEG".into());
+                warnings.push(format!(
+                    "{at} (used by {slot}) is {named}; smlt reads PNG and JPEG: the texture is left out and its factor used"
+                ));
+                return Ok(None);
+            }
+        };
+        let decoded = image::load_from_memory_with_format(&bytes, format)
+            .map_err(|e| malformed(format!("{at}: its {format:?} data does not decode: {e}")))?;
+        let rgba = decoded.to_rgba8();
+        let (width, height) = rgba.dimensions();
+        let offset = self.texels.len();
+        if offset + (width as usize) * (height as usize) > u32::MAX as usize {
+            return Err(SceneError::Unsupported {
+                path: source.name.into(),
+                what: format!("{at}: the textures hold more than 2³² texels"),
+            });
+        }
+        self.texels.extend(rgba.pixels().map(|p| u32::from_le_bytes(p.0)));
+        Ok(Some((offset as u32, width, height)))
+    }
+}
+
+/// The bytes behind an image URI: a `data:` URI's (base64) or a file's beside the document.
+fn read_uri(uri: &str, base: Option<&Path>) -> Result<Vec<u8>, String> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (_, data) = rest.split_once(";base64,").ok_or("a data: URI without ;base64,")?;
+        return base64::engine::general_purpose::STANDARD
+            .decode(data)
+            .map_err(|e| format!("bad base64: {e}"));
+    }
+    if uri.contains("://") {
+        return Err("only files beside the document and data: URIs are read".into());
+    }
+    let base = base.ok_or("the image is a file, but the document was given without a folder")?;
+    let path = urlencoding::decode(uri).map_err(|e| e.to_string())?;
+    let file = base.join(path.as_ref());
+    std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))
+}
+
+/// A URI as a message shows it (a data: URI's head only).
+fn short(uri: &str) -> String {
+    if uri.len() > 48 {
+        format!("{}…", &uri[..uri.char_indices().nth(40).map_or(uri.len(), |(i, _)| i)])
+    } else {
+        uri.to_string()
+    }
+}

@@ -1,0 +1,157 @@
+//! The material at a surface point: a triangle's material with its textures looked up at the
+//! point's texture coordinates — what every stage shades with, from a hit (trace, the path
+//! tracer), a stored path vertex (connect: its position and triangle) or a point sampled on a
+//! light.
+//!
+//! A material without textures ([`Material::textures`] 0) is the triangle's material as it is;
+//! otherwise (glTF 2.0's `pbrMetallicRoughness` and `emissiveTexture`):
+//! - the base colour is `baseColorFactor` × `baseColorTexture`'s sRGB-decoded rgb;
+//! - roughness is `roughnessFactor` × the green channel and metallic `metallicFactor` × the
+//!   blue channel of `metallicRoughnessTexture` (linear), mixed with transmission as the
+//!   untextured material is ([`Material::with_metallic`]);
+//! - emission is `emissiveFactor` × strength × `emissiveTexture`'s sRGB-decoded rgb.
+//!
+//! Texture coordinates are interpolated over the triangle from its vertices' `TEXCOORD_0` and
+//! `TEXCOORD_1` ([`TriangleTexcoords`]) at the point's barycentric coordinates, which
+//! [`barycentrics`] recovers from the point itself: a path vertex stores its position, not its
+//! coordinates, and recovering them gives the trace and connect stages the same material at
+//! the same vertex.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use crate::bsdf::Material;
+use crate::element::element_or;
+use crate::scene::Scene;
+use crate::texture::{sample, Texture, TextureRef};
+use crate::triangle::Triangle;
+
+/// The textures of a material and the factors they multiply (uploaded as it is; entry 0 of the
+/// scene's list is never used: [`Material::textures`] 0 means none).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct MaterialTextures {
+    /// `baseColorTexture` (sRGB).
+    pub base_color: TextureRef,
+    /// `metallicRoughnessTexture` (linear; G roughness, B metallic).
+    pub metallic_roughness: TextureRef,
+    /// `emissiveTexture` (sRGB).
+    pub emissive: TextureRef,
+    /// glTF's metallicFactor (the material's `metallic` is a share derived from it).
+    pub metallic: f32,
+    /// glTF's roughnessFactor (the material's `alpha` is its square).
+    pub roughness: f32,
+    /// `KHR_materials_transmission`'s transmissionFactor.
+    pub transmission: f32,
+    /// Padding to 112 bytes.
+    pub _pad: f32,
+}
+
+/// A triangle's texture coordinates (uploaded as it is, one per triangle in the triangles'
+/// order, where any material has textures): (u, v) of its three vertices from `TEXCOORD_0`,
+/// then from `TEXCOORD_1` (zeros where the mesh has none).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TriangleTexcoords {
+    #[allow(missing_docs)] // see the struct
+    pub uv: [f32; 12],
+}
+
+impl TriangleTexcoords {
+    /// Set `set`'s (0 or 1) coordinates at barycentric coordinates `b` (weights of v0, v1).
+    #[inline]
+    pub fn at(&self, set: u32, b: Vec2) -> Vec2 {
+        // Constant indices only: rust-gpu cannot index a local array by a value.
+        let u = &self.uv;
+        let (a, c, d) = if set == 1 {
+            (Vec2::new(u[6], u[7]), Vec2::new(u[8], u[9]), Vec2::new(u[10], u[11]))
+        } else {
+            (Vec2::new(u[0], u[1]), Vec2::new(u[2], u[3]), Vec2::new(u[4], u[5]))
+        };
+        a * b.x + c * b.y + d * (1.0 - b.x - b.y)
+    }
+}
+
+/// The barycentric coordinates (b0, b1) (weights of v0 and v1, as [`Triangle::point`] takes
+/// them) of `p`, projected onto the triangle's plane; the centroid's for a degenerate triangle.
+#[inline]
+pub fn barycentrics(tri: &Triangle, p: Vec3) -> Vec2 {
+    let v0 = Vec3::from_array(tri.v0);
+    let (e1, e2, w) = (Vec3::from_array(tri.v1) - v0, Vec3::from_array(tri.v2) - v0, p - v0);
+    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let (w1, w2) = (w.dot(e1), w.dot(e2));
+    let det = d11 * d22 - d12 * d12;
+    if !(det > 0.0) {
+        return Vec2::splat(1.0 / 3.0);
+    }
+    let b1 = (d22 * w1 - d12 * w2) / det;
+    let b2 = (d11 * w2 - d12 * w1) / det;
+    Vec2::new(1.0 - b1 - b2, b1)
+}
+
+/// The material of triangle `triangle` at the point `p` on it (see the module doc).
+#[inline]
+pub fn material_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Material {
+    let tri = scene.triangles[triangle as usize];
+    let m = scene.materials[tri.material as usize];
+    if m.textures == 0 {
+        return m;
+    }
+    textured(scene, m, triangle, barycentrics(&tri, p))
+}
+
+/// The material of triangle `triangle` at barycentric coordinates `b` (see the module doc).
+#[inline]
+pub fn material_at_barycentrics<R>(scene: &Scene<R>, triangle: u32, b: Vec2) -> Material {
+    let m = scene.materials[scene.triangles[triangle as usize].material as usize];
+    if m.textures == 0 {
+        return m;
+    }
+    textured(scene, m, triangle, b)
+}
+
+/// `m` with its textures applied at barycentric coordinates `b` of triangle `triangle` (on the
+/// device inlined at each call, as it takes the scene's buffers: the callers look up a vertex's
+/// material once, and the slots and texels are loops, to keep the copies small).
+#[inline]
+fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Material {
+    // No panic path (`crate::element`): rust-gpu keeps this a function of its own.
+    let t = element_or(scene.material_textures, m.textures as usize, MaterialTextures::default());
+    let coords = element_or(scene.texcoords, triangle as usize, TriangleTexcoords::default());
+    let (uv0, uv1) = (coords.at(0, b), coords.at(1, b));
+    let mut out = m;
+    // One lookup in a loop over the slots (the device module keeps one copy of it).
+    let mut slot = 0;
+    while slot < 3 {
+        let r = if slot == 0 {
+            t.base_color
+        } else if slot == 1 {
+            t.metallic_roughness
+        } else {
+            t.emissive
+        };
+        if r.is_some() {
+            let c = lookup(scene, r, uv0, uv1, slot != 1);
+            if slot == 0 {
+                out.albedo = (Vec3::from_array(m.albedo) * c.truncate()).to_array();
+            } else if slot == 1 {
+                let roughness = t.roughness * c.y;
+                out.alpha = roughness * roughness;
+                out = out.with_metallic(t.metallic * c.z, t.transmission);
+            } else {
+                out.emission = (Vec3::from_array(m.emission) * c.truncate()).to_array();
+            }
+        }
+        slot += 1;
+    }
+    out
+}
+
+/// The texture `r` refers to at the mesh's coordinates `uv0`, `uv1`.
+#[inline]
+fn lookup<R>(scene: &Scene<R>, r: TextureRef, uv0: Vec2, uv1: Vec2, srgb: bool) -> Vec4 {
+    let texture = element_or(scene.textures, r.texture as usize, Texture::default());
+    sample(scene.texels, texture, r.coordinates(uv0, uv1), srgb)
+}
+
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod tests;

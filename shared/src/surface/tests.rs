@@ -1,0 +1,182 @@
+//! The material at a point against texels and factors combined by hand.
+
+use super::*;
+use crate::environment::{Environment, NONE as NO_ENVIRONMENT};
+use crate::light::LightEntry;
+use crate::punctual::{PunctualLight, NONE as NO_PUNCTUAL};
+use crate::texture::{srgb_to_linear, texture_transform, Texture, WRAP_CLAMP, WRAP_REPEAT};
+use glam::Vec2;
+
+fn rgba(r: u8, g: u8, b: u8, a: u8) -> u32 {
+    u32::from_le_bytes([r, g, b, a])
+}
+
+/// Everything a scene needs besides what a test varies.
+struct Fixture {
+    triangles: Vec<Triangle>,
+    materials: Vec<Material>,
+    material_textures: Vec<MaterialTextures>,
+    textures: Vec<Texture>,
+    texels: Vec<u32>,
+    texcoords: Vec<TriangleTexcoords>,
+    lights: [LightEntry; 1],
+    punctual: [PunctualLight; 1],
+    environment: Environment,
+}
+
+impl Fixture {
+    fn scene(&self) -> Scene<'_, ()> {
+        Scene {
+            caster: (),
+            triangles: &self.triangles,
+            materials: &self.materials,
+            lights: &self.lights,
+            punctual: &self.punctual,
+            environment: &self.environment,
+            environment_map: &[0.0],
+            material_textures: &self.material_textures,
+            textures: &self.textures,
+            texels: &self.texels,
+            texcoords: &self.texcoords,
+        }
+    }
+}
+
+/// Two triangles of material 1 (textured) and 2 (not): the unit square's lower-left half at
+/// z = 0 with TEXCOORD_0 = (x, y) and TEXCOORD_1 = (2x, 2y); a 2 × 2 nearest, clamped base
+/// colour texture, a 1 × 1 metallic-roughness texture and a 2 × 1 repeating, bilinear emissive one.
+fn fixture() -> Fixture {
+    let tri = Triangle {
+        v0: [0.0; 3],
+        v1: [1.0, 0.0, 0.0],
+        v2: [0.0, 1.0, 0.0],
+        material: 1,
+        ..Default::default()
+    };
+    let plain = Material { albedo: [0.5; 3], textures: 0, ..Default::default() };
+    let textured = Material {
+        albedo: [0.5, 1.0, 1.0],
+        emission: [2.0, 2.0, 2.0],
+        alpha: 0.25,
+        metallic: 0.5,
+        ior: 1.5,
+        textures: 1,
+        ..Default::default()
+    };
+    let at =
+        |texture: u32, tex_coord: u32| TextureRef { texture, tex_coord, transform: crate::texture::IDENTITY };
+    let texels = vec![
+        // Base colour, 2 × 2: rows from the top (v = 0).
+        rgba(255, 0, 0, 255),
+        rgba(0, 255, 0, 255),
+        rgba(128, 128, 128, 255),
+        rgba(0, 0, 255, 255),
+        // Metallic-roughness, 1 × 1: G roughness 128, B metal 51.
+        rgba(0, 128, 51, 255),
+        // Emissive, 2 × 1: black then white.
+        rgba(0, 0, 0, 255),
+        rgba(255, 255, 255, 255),
+    ];
+    Fixture {
+        triangles: vec![tri, Triangle { material: 2, ..tri }],
+        materials: vec![Material::default(), textured, plain],
+        material_textures: vec![
+            MaterialTextures::default(),
+            MaterialTextures {
+                base_color: at(0, 0),
+                metallic_roughness: at(1, 0),
+                emissive: TextureRef {
+                    texture: 2,
+                    tex_coord: 1,
+                    transform: texture_transform([0.5, 0.0], 0.0, [1.0, 1.0]),
+                },
+                metallic: 0.8,
+                roughness: 0.6,
+                transmission: 0.5,
+                _pad: 0.0,
+            },
+        ],
+        textures: vec![
+            Texture {
+                offset: 0,
+                width: 2,
+                height: 2,
+                sampler: Texture::sampler(WRAP_CLAMP, WRAP_CLAMP, true),
+            },
+            Texture {
+                offset: 4,
+                width: 1,
+                height: 1,
+                sampler: Texture::sampler(WRAP_REPEAT, WRAP_REPEAT, false),
+            },
+            Texture {
+                offset: 5,
+                width: 2,
+                height: 1,
+                sampler: Texture::sampler(WRAP_REPEAT, WRAP_REPEAT, false),
+            },
+        ],
+        texels,
+        texcoords: vec![
+            TriangleTexcoords { uv: [0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0] };
+            2
+        ],
+        lights: [LightEntry { light: 0, cdf: 1.0 }],
+        punctual: [NO_PUNCTUAL],
+        environment: NO_ENVIRONMENT,
+    }
+}
+
+#[test]
+fn barycentrics_invert_the_triangles_point() {
+    let tri =
+        Triangle { v0: [1.0, 2.0, 3.0], v1: [4.0, -1.0, 0.5], v2: [-2.0, 0.0, 7.0], ..Default::default() };
+    for (b0, b1) in [(0.2, 0.3), (1.0, 0.0), (0.0, 0.0), (0.05, 0.9)] {
+        let b = barycentrics(&tri, tri.point(b0, b1));
+        assert!((b - Vec2::new(b0, b1)).abs().max_element() < 1e-5, "{b} for ({b0}, {b1})");
+    }
+    // A point off the plane projects onto it.
+    let off = tri.point(0.2, 0.3) + tri.normal() * 0.5;
+    assert!((barycentrics(&tri, off) - Vec2::new(0.2, 0.3)).abs().max_element() < 1e-5);
+    let flat = Triangle { v0: [0.0; 3], v1: [1.0, 0.0, 0.0], v2: [2.0, 0.0, 0.0], ..Default::default() };
+    assert_eq!(barycentrics(&flat, Vec3::ONE), Vec2::splat(1.0 / 3.0));
+}
+
+#[test]
+fn a_material_without_textures_is_the_same_everywhere() {
+    let f = fixture();
+    let scene = f.scene();
+    let p = Vec3::new(0.7, 0.1, 0.0);
+    assert_eq!(material_at(&scene, 1, p), f.materials[2]);
+    assert_eq!(material_at_barycentrics(&scene, 1, Vec2::new(0.2, 0.7)), f.materials[2]);
+}
+
+#[test]
+fn textures_multiply_their_factors_at_the_points_coordinates() {
+    let f = fixture();
+    let scene = f.scene();
+    // (x, y) = (0.7, 0.1): TEXCOORD_0 (0.7, 0.1) is the base colour's texel (1, 0), green.
+    let m = material_at(&scene, 0, Vec3::new(0.7, 0.1, 0.0));
+    assert_eq!(m.albedo, [0.0, 1.0, 0.0]);
+    // (0.2, 0.6): texel (0, 1), grey 128, sRGB-decoded to 0.2158605, times the factor.
+    let g = srgb_to_linear(128.0 / 255.0);
+    let grey = material_at(&scene, 0, Vec3::new(0.2, 0.6, 0.0)).albedo;
+    assert!((Vec3::from_array(grey) - Vec3::new(0.5 * g, g, g)).abs().max_element() < 1e-6, "{grey:?}");
+    // (0.1, 0.1): texel (0, 0), red times the factor's red 0.5.
+    assert_eq!(material_at(&scene, 0, Vec3::new(0.1, 0.1, 0.0)).albedo, [0.5, 0.0, 0.0]);
+    // Metallic-roughness: roughness 0.6 × 128/255, metallic 0.8 × 51/255 = 0.16 mixed with
+    // transmission 0.5: glass 0.5 (1 − 0.16) = 0.42, metal share 0.16 / 0.58.
+    let roughness = 0.6 * 128.0 / 255.0;
+    assert!((m.alpha - roughness * roughness).abs() < 1e-6, "{}", m.alpha);
+    let metal = 0.8 * 51.0 / 255.0;
+    assert!((m.transmission - 0.5 * (1.0 - metal)).abs() < 1e-6, "{}", m.transmission);
+    assert!((m.metallic - metal / (1.0 - 0.5 * (1.0 - metal))).abs() < 1e-6, "{}", m.metallic);
+    // Emission from TEXCOORD_1 = (1.4, 0.2), offset by 0.5 to u = 1.9: repeats to 0.9, the
+    // white texel; sRGB-decoded bilinear between the two texel centres at 0.25 and 0.75 and
+    // wrapping: u·w − 0.5 = 1.3 → 0.7 of the white texel (1) and 0.3 of the black one (0).
+    let e = m.emission[0];
+    assert!((e - 2.0 * 0.7).abs() < 1e-5, "{e}");
+    // Light sampling's barycentric lookup agrees with the positional one.
+    let b = Vec2::new(1.0 - 0.7 - 0.1, 0.7);
+    assert_eq!(material_at_barycentrics(&scene, 0, b).albedo, m.albedo);
+}
