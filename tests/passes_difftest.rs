@@ -446,6 +446,15 @@ fn brdf_passes_agree_on_device_and_cpu() {
     }
 }
 
+/// On textures (`textured_scene`: every slot, NEAREST and bilinear, wraps, a transform, an
+/// emissive texture on the lamp): the texel store and its lookups at every vertex.
+#[test]
+fn textured_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("textured_passes_agree_on_device_and_cpu") {
+        difftest_both_estimators(gpu, &common::scenes::textured_scene());
+    }
+}
+
 #[test]
 fn reject_chain_eight_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("reject_chain_eight_passes_agree_on_device_and_cpu") {
@@ -581,8 +590,8 @@ fn every_pass_binds_what_its_kernel_declares() {
 
 /// The path tracer's pass (`--method pt`, and `smlt reference`): one round of 4 samples a
 /// pixel on the device and on the CPU backend, pixel by pixel, on the default scene, on
-/// Sibenik-like geometry (the nave), under the environment (`sky_scene`) and on glTF's BRDF
-/// (`brdf_scene`): at most 0.5 % of pixel values differ beyond 1e-3 relative
+/// Sibenik-like geometry (the nave), under the environment (`sky_scene`), on glTF's BRDF
+/// (`brdf_scene`) and on textures (`textured_scene`): at most 0.5 % of pixel values differ beyond 1e-3 relative
 /// (a path that grazes an edge may take the other branch).
 #[test]
 fn the_path_tracer_agrees_on_device_and_cpu() {
@@ -595,6 +604,7 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
         ("nave", SceneData::from_slice(include_bytes!("../scenes/nave.gltf"), "nave").expect("nave")),
         ("sky", common::scenes::sky_scene()),
         ("brdf", common::scenes::brdf_scene(false)),
+        ("textured", common::scenes::textured_scene()),
     ] {
         let s = Settings {
             width: 24,

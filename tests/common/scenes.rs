@@ -229,3 +229,64 @@ pub fn brdf_scene(point: bool) -> SceneData {
     b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.35, -0.5), Vec3::Y, 50f32.to_radians());
     SceneData::from_slice(b.to_json().as_bytes(), "brdf scene").expect("brdf scene")
 }
+
+/// Every texture slot glTF has, each with a different sampler: a checker floor (base colour,
+/// NEAREST), a wall of colour bands (base colour, bilinear, MIRRORED_REPEAT, through a
+/// `KHR_texture_transform`), a ball whose metallic-roughness texture stripes it into rough
+/// dielectric, rough metal and a glossier metal (bilinear), and an area lamp whose
+/// emissiveTexture is a bright frame round a dim centre (NEAREST, CLAMP_TO_EDGE).
+#[allow(dead_code)]
+pub fn textured_scene() -> SceneData {
+    use serde_json::json;
+    use smlt::scenes::{png, Planar};
+    let mut b = GltfBuilder::new();
+    let v = Vec3::new;
+    let floor = b.material("checker", [0.9; 3], [0.0; 3], 1.0, None);
+    let checker = png(4, 4, |x, y| if (x + y) % 2 == 0 { [220, 210, 190, 255] } else { [40, 60, 90, 255] });
+    b.texture(
+        floor,
+        "baseColorTexture",
+        checker,
+        json!({"magFilter": 9728}),
+        None,
+        Planar { u: Vec3::X, v: Vec3::Z },
+    );
+    b.quad(floor, [v(-2., 0., 2.), v(2., 0., 2.), v(2., 0., -2.), v(-2., 0., -2.)]);
+    let wall = b.material("bands", [1.0; 3], [0.0; 3], 1.0, None);
+    let bands = png(8, 2, |x, y| [(x * 30) as u8, 90 + (y * 60) as u8, 240 - (x * 30) as u8, 255]);
+    b.texture(
+        wall,
+        "baseColorTexture",
+        bands,
+        json!({"magFilter": 9729, "wrapS": 33648}),
+        Some(json!({"rotation": 0.4, "scale": [1.3, 0.7], "offset": [0.1, 0.2]})),
+        Planar { u: Vec3::X * 0.5, v: -Vec3::Y * 0.5 },
+    );
+    b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 2.5, -2.), v(-2., 2.5, -2.)]);
+    let ball = b.pbr("striped metal", [0.95, 0.7, 0.4], 1.0, 1.0);
+    let stripes = png(3, 1, |x, _| [[0, 255, 0, 255], [0, 200, 255, 255], [0, 110, 255, 255]][x as usize]);
+    b.texture(
+        ball,
+        "metallicRoughnessTexture",
+        stripes,
+        json!({"magFilter": 9729}),
+        None,
+        Planar { u: Vec3::X * 1.5, v: Vec3::Y },
+    );
+    b.sphere(ball, v(-0.3, 0.5, -0.6), 0.5, 10);
+    let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 10.0, None);
+    let frame =
+        png(4, 4, |x, y| if x == 0 || y == 0 || x == 3 || y == 3 { [255; 4] } else { [50, 50, 50, 255] });
+    b.texture(
+        lamp,
+        "emissiveTexture",
+        frame,
+        json!({"magFilter": 9728, "wrapS": 33071, "wrapT": 33071}),
+        Some(json!({"offset": [0.5, 0.5]})),
+        Planar { u: Vec3::X * 1.25, v: Vec3::Z * 1.25 },
+    );
+    let q = [v(-0.4, 2.0, -0.4), v(0.4, 2.0, -0.4), v(0.4, 2.0, 0.4), v(-0.4, 2.0, 0.4)];
+    b.quad(lamp, smlt::scenes::facing(q, -Vec3::Y));
+    b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.4, -0.5), Vec3::Y, 50f32.to_radians());
+    SceneData::from_slice(b.to_json().as_bytes(), "textured scene").expect("textured scene")
+}
