@@ -223,6 +223,12 @@ fn read_material(
     if m.normal_texture().is_some() {
         warnings.push(format!("{label}: normalTexture is ignored (shading uses the geometric normal)"));
     }
+    if m.alpha_mode() != gltf::material::AlphaMode::Opaque {
+        warnings.push(format!(
+            "{label}: alphaMode {:?} is not modelled yet: the surface renders opaque",
+            m.alpha_mode()
+        ));
+    }
     if m.occlusion_texture().is_some() {
         warnings.push(format!(
             "{label}: occlusionTexture is ignored (a path tracer computes occlusion; the texture is an approximation of it)"
