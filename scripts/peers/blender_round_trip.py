@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
-"""The Blender round trip: builds a small lamp-lit scene with a glass ball with Blender's Python
-module (`pip install bpy`), writes it with Blender's own glTF exporter, renders the file back in
-Cycles (CPU) through Blender's own glTF importer, and writes what smlt needs to render the same
-file.
+"""The Blender round trip: builds a small lamp-lit scene with a glass ball, a checker-textured
+floor and a gold ball with Blender's Python module (`pip install bpy`), writes it with Blender's
+own glTF exporter, renders the file back in Cycles (CPU) through Blender's own glTF importer,
+and writes what smlt needs to render the same file.
 
-    python3 blender_round_trip.py OUT [--samples 2048] [--width 160] [--height 120] [--no-glass]
+    python3 blender_round_trip.py OUT [--samples 2048] [--width 160] [--height 120] [--no-glass] [--plain]
 
-OUT gets `round_trip.gltf` (+ .bin), `cycles.exr` and `cycles.txt` (the settings). Then smlt's
+OUT gets `round_trip.gltf` (+ .bin, and `checker.png` but with --plain), `cycles.exr` and
+`cycles.txt` (the settings and what the render changed after the import). Then smlt's
 path tracer, which renders what Cycles can: `smlt reference OUT/round_trip.gltf --device cpu
 --width 160 --height 120 --spp 8192 --out OUT/smlt.exr`; and smlt's bidirectional estimator,
 which also renders the lamps' caustics through the glass, in two independent halves:
@@ -16,12 +17,34 @@ which also renders the lamps' caustics through the glass, in two independent hal
 by quarter (Cycles against smlt pt; both against the naive halves' mean, with the halves'
 spread), and draws Cycles | smlt pt | smlt naive side by side.
 
-The scene: a grey floor, a back wall, a red box and a white ball (flat-shaded, as smlt shades
-with the geometric normal), and a clear glass ball in front (`--no-glass`: without it, the
-scene of the first round trip), lit by a point lamp, a spot and a sun, seen by one camera. The
-opaque materials are Principled BSDFs with metallic 0, roughness 1 and specular IOR level 0 —
-Lambertian in Cycles, and Lambertian in smlt (the exporter writes KHR_materials_specular
-specularFactor 0). The glass is a Principled BSDF with Transmission Weight 1, roughness 0, IOR
+The scene: a checker floor, a back wall, a red box and a gold ball (flat-shaded, as smlt shades
+with the geometric normal), and a clear glass ball in front (`--no-glass`: without it), lit by a
+point lamp, a spot and a sun, seen by one camera. `--plain`: a grey floor (0.5) and a white ball
+(0.8) instead of the checker and the gold, the scene of the first round trips (docs/results.md's
+numbers; `--plain --no-glass` is the very first). The wall, the box, the plain floor and ball
+are Principled BSDFs with metallic 0, roughness 1 and specular IOR level 0 — Lambertian in
+Cycles, and Lambertian in smlt (the exporter writes KHR_materials_specular specularFactor 0).
+The checker floor is that Lambert with Base Color from an Image Texture (`checker_image`: 64×64
+pixels, 8×8 squares, 8-bit sRGB 204 and 51, i.e. 0.8 and 0.2, linear 0.604 and 0.033) with
+interpolation Closest (the exporter writes sampler magFilter NEAREST, minFilter
+NEAREST_MIPMAP_NEAREST; Cycles looks the texel up without filtering or mipmaps) and extension
+Repeat (wrap REPEAT, the default, not written), through a Mapping node (Point, scale 3) on the
+plane's 0..1 UVs: the exporter writes it as KHR_texture_transform (scale [3, 3], offset [0, −2]:
+glTF's v is Blender's 1 − v) and lists that extension in extensionsRequired; the importer makes
+the Mapping node again. The exporter writes the image, encoded from its pixels, as
+OUT/checker.png (GLTF_SEPARATE). The gold is a Principled BSDF with metallic 1, roughness 0.3
+and base colour (1, 0.766, 0.336) (linear), exported as metallicFactor 1 (the default, not
+written), roughnessFactor 0.3 and that baseColorFactor: Blender's roughness is glTF's (α = r²
+in both), and with Specular Tint white (the default) Cycles' F82-tint metal Fresnel is Schlick's
+with F0 = base colour, glTF's. Cycles' Principled BSDF defaults to multiscatter GGX, which adds
+the light that glTF's single-scattering GGX loses on rough metal; the build sets 'GGX' and,
+since the importer makes its Principled BSDFs with the default, the Cycles render sets every
+Principled distribution to 'GGX' after import (it says so in `cycles.txt`; for the Lambert
+materials and the smooth glass it changes nothing). `check_textured` refuses an export without
+KHR_texture_transform, the floor's baseColorTexture, sampler (NEAREST, REPEAT), transform scale
+or image file (with the checker's two values), or the gold's factors, and prints the floor's
+material, texture, sampler and image JSON, its TEXCOORD_0 range and that range after the
+transform (u 0..3, v −2..1). The glass is a Principled BSDF with Transmission Weight 1, roughness 0, IOR
 1.52 and a "glTF Material Output" group whose Thickness is 1 (`glass_material`): the exporter
 writes KHR_materials_transmission, KHR_materials_ior (only where the IOR is not glTF's default
 1.5: at 1.5 it drops the extension) and KHR_materials_volume (only with that Thickness > 0;
@@ -50,6 +73,12 @@ GLASS_RADIUS = 0.5
 # Not 1.5: at glTF's default ior Blender's exporter drops KHR_materials_ior (an empty extension,
 # blender/exp/material/extensions/ior.py), so 1.52 (crown glass) makes it write the extension smlt reads.
 GLASS_IOR = 1.52
+# The textured scene (the default; --plain: the grey floor and white ball of the first round trips).
+CHECKER_PIXELS, CHECKER_SQUARE = 64, 8  # 8 x 8 squares of 8 x 8 pixels
+CHECKER_LIGHT, CHECKER_DARK = 204, 51  # 8-bit sRGB: 0.8 and 0.2
+CHECKER_REPEAT = 3.0  # the Mapping node's UV scale: 3 x 3 checkers, 24 x 24 squares of 1/3 m on the 8 m floor
+GOLD = (1.0, 0.766, 0.336)  # linear base colour
+GOLD_ROUGHNESS = 0.3
 
 
 def glass_material():
@@ -86,8 +115,24 @@ def glass_material():
     return m
 
 
-def build(out, glass=True):
+def checker_image(bpy, np):
+    """The floor's checker, CHECKER_PIXELS square, squares of CHECKER_SQUARE pixels alternating
+    sRGB CHECKER_LIGHT and CHECKER_DARK (8-bit, so 204 and 51 exactly: linear 0.6038 and
+    0.0331), the pixel (0, 0) — Blender's bottom left — light; no alpha. The exporter encodes
+    it from these pixels and writes it as OUT/checker.png."""
+    n, s = CHECKER_PIXELS, CHECKER_SQUARE
+    img = bpy.data.images.new("checker", n, n, alpha=False)  # 8-bit, colour space sRGB
+    y, x = np.mgrid[0:n, 0:n]
+    light = ((x // s + y // s) % 2 == 0)[..., None]
+    rgb = np.where(light, CHECKER_LIGHT / 255.0, CHECKER_DARK / 255.0) * np.ones(3)
+    img.pixels.foreach_set(np.concatenate([rgb, np.ones((n, n, 1))], axis=2).astype(np.float32).ravel())
+    img.update()
+    return img
+
+
+def build(out, glass=True, plain=False):
     import bpy
+    import numpy as np
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
@@ -106,14 +151,45 @@ def build(out, glass=True):
         obj.data.materials.append(mat)
         return obj
 
+    def checker_floor():
+        # Lambert × texture: the material() Principled (metallic 0, roughness 1, specular IOR
+        # level 0) with Base Color from an Image Texture (Closest: glTF magFilter NEAREST, a
+        # point lookup in Cycles; Repeat: wrap REPEAT) through a Mapping node (Point, scale
+        # CHECKER_REPEAT), which the exporter writes as KHR_texture_transform on the plane's
+        # 0..1 UVs.
+        m = material("floor", (1.0, 1.0, 1.0))
+        nt = m.node_tree
+        tex = nt.nodes.new("ShaderNodeTexImage")
+        tex.image = checker_image(bpy, np)
+        tex.interpolation = "Closest"
+        tex.extension = "REPEAT"
+        coords = nt.nodes.new("ShaderNodeTexCoord")
+        mapping = nt.nodes.new("ShaderNodeMapping")
+        mapping.vector_type = "POINT"
+        mapping.inputs["Scale"].default_value = (CHECKER_REPEAT, CHECKER_REPEAT, 1.0)
+        nt.links.new(coords.outputs["UV"], mapping.inputs["Vector"])
+        nt.links.new(mapping.outputs["Vector"], tex.inputs["Vector"])
+        nt.links.new(tex.outputs["Color"], nt.nodes["Principled BSDF"].inputs["Base Color"])
+        return m
+
+    def gold():
+        m = bpy.data.materials.new("gold")
+        m.use_nodes = True
+        p = m.node_tree.nodes["Principled BSDF"]
+        p.distribution = "GGX"  # single scattering, glTF's; the importer's default is MULTI_GGX (cycles() sets it)
+        p.inputs["Base Color"].default_value = (*GOLD, 1.0)
+        p.inputs["Metallic"].default_value = 1.0
+        p.inputs["Roughness"].default_value = GOLD_ROUGHNESS
+        return m
+
     bpy.ops.mesh.primitive_plane_add(size=8.0, location=(0, 0, 0))
-    add(bpy.context.object, material("floor", (0.5, 0.5, 0.5)))
+    add(bpy.context.object, material("floor", (0.5, 0.5, 0.5)) if plain else checker_floor())
     bpy.ops.mesh.primitive_plane_add(size=8.0, location=(0, -3.0, 2.0), rotation=(math.pi / 2, 0, 0))
     add(bpy.context.object, material("wall", (0.7, 0.68, 0.62)))
     bpy.ops.mesh.primitive_cube_add(size=1.0, location=(1.0, -0.8, 0.5), rotation=(0, 0, 0.4))
     add(bpy.context.object, material("red box", (0.6, 0.1, 0.08)))
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3, radius=0.6, location=(-0.9, 0.2, 0.6))
-    add(bpy.context.object, material("white ball", (0.8, 0.8, 0.8)))
+    add(bpy.context.object, material("white ball", (0.8, 0.8, 0.8)) if plain else gold())
     if glass:
         bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=GLASS_RADIUS, location=GLASS_AT)
         add(bpy.context.object, glass_material())
@@ -144,7 +220,92 @@ def build(out, glass=True):
     bpy.ops.export_scene.gltf(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True, export_lights=True)
     if glass:
         print(check_glass(path))
+    if not plain:
+        print(check_textured(path))
     return path
+
+
+def check_textured(path):
+    """That Blender's export of the textured scene is what it was built as: extensionsUsed has
+    KHR_texture_transform; the floor's baseColorTexture has a sampler (magFilter NEAREST, wrap
+    REPEAT) and an image file beside the .gltf holding the checker's two sRGB values, its
+    KHR_texture_transform scale CHECKER_REPEAT, and the floor material is still Lambert
+    (metallicFactor 0, KHR_materials_specular specularFactor 0); the gold material has
+    metallicFactor 1, roughnessFactor GOLD_ROUGHNESS and baseColorFactor GOLD and no texture.
+    Returns the JSON of the floor's material, texture, sampler and image, and its TEXCOORD_0
+    range (the plane's UVs, before the transform) and that range after the transform."""
+    import json
+    import bpy
+    import numpy as np
+
+    def refuse(why):
+        raise SystemExit(f"{path}: {why}")
+
+    with open(path) as f:
+        doc = json.load(f)
+    used = set(doc.get("extensionsUsed", []))
+    if "KHR_texture_transform" not in used:
+        refuse(f"the export lacks KHR_texture_transform (extensionsUsed: {sorted(used)})")
+    mats = {m.get("name"): m for m in doc["materials"]}
+    floor, gold = mats.get("floor"), mats.get("gold")
+    if floor is None or gold is None:
+        refuse(f"no floor or gold material (materials: {sorted(mats)})")
+    pbr = floor.get("pbrMetallicRoughness", {})
+    info = pbr.get("baseColorTexture")
+    if info is None:
+        refuse(f"the floor has no baseColorTexture: {json.dumps(floor)}")
+    if pbr.get("metallicFactor", 1.0) != 0.0 or \
+            floor.get("extensions", {}).get("KHR_materials_specular", {}).get("specularFactor", 1.0) != 0.0:
+        refuse(f"the floor is not Lambert × texture: {json.dumps(floor)}")
+    if any(abs(c - 1.0) > 1e-6 for c in pbr.get("baseColorFactor", [1, 1, 1, 1])):
+        refuse(f"the floor's baseColorFactor is not 1: {json.dumps(floor)}")
+    texture = doc["textures"][info["index"]]
+    if "sampler" not in texture or "source" not in texture:
+        refuse(f"the floor's texture has no sampler or no source: {texture}")
+    sampler, image = doc["samplers"][texture["sampler"]], doc["images"][texture["source"]]
+    if sampler.get("magFilter") != 9728 or sampler.get("wrapS", 10497) != 10497 or sampler.get("wrapT", 10497) != 10497:
+        refuse(f"the floor's sampler is not NEAREST, REPEAT: {sampler}")
+    transform = info.get("extensions", {}).get("KHR_texture_transform")
+    if transform is None or any(abs(v - CHECKER_REPEAT) > 1e-6 for v in transform.get("scale", [1, 1])):
+        refuse(f"the floor's texture has no KHR_texture_transform of scale {CHECKER_REPEAT}: {info}")
+    png = os.path.join(os.path.dirname(path), image.get("uri", ""))
+    if "uri" not in image or not os.path.isfile(png):
+        refuse(f"the floor's image {image} is not a file beside the export")
+    img = bpy.data.images.load(png)
+    values = sorted(set(np.round(np.array(img.pixels[:]).reshape(-1, 4)[:, :3] * 255).astype(int).ravel()))
+    w, h = img.size
+    bpy.data.images.remove(img)
+    if values != sorted({CHECKER_LIGHT, CHECKER_DARK}) or (w, h) != (CHECKER_PIXELS, CHECKER_PIXELS):
+        refuse(f"{png}: {w}x{h} with 8-bit values {values}, not the checker's")
+    g = gold.get("pbrMetallicRoughness", {})
+    facts = (g.get("metallicFactor", 1.0), g.get("roughnessFactor", 1.0), g.get("baseColorFactor", [1, 1, 1, 1])[:3])
+    if facts[0] != 1.0 or abs(facts[1] - GOLD_ROUGHNESS) > 1e-6 or any(abs(a - b) > 1e-6 for a, b in zip(facts[2], GOLD)) \
+            or "baseColorTexture" in g or "metallicRoughnessTexture" in g:
+        refuse(f"gold exported as {json.dumps(gold)}")
+    # The floor's TEXCOORD_n, read from the buffer (the exporter need not write min/max).
+    (floor_mesh,) = [m for m in doc["meshes"] if any(p.get("material") == doc["materials"].index(floor)
+                                                        for p in m["primitives"])]
+    uv = []
+    for prim in floor_mesh["primitives"]:
+        acc = doc["accessors"][prim["attributes"][f"TEXCOORD_{info.get('texCoord', 0)}"]]
+        view = doc["bufferViews"][acc["bufferView"]]
+        with open(os.path.join(os.path.dirname(path), doc["buffers"][view["buffer"]]["uri"]), "rb") as f:
+            f.seek(view.get("byteOffset", 0) + acc.get("byteOffset", 0))
+            stride = view.get("byteStride", 8)
+            raw = np.frombuffer(f.read(stride * acc["count"]), dtype=np.uint8).reshape(acc["count"], stride)
+        uv.append(raw[:, :8].copy().view(np.float32).reshape(-1, 2))
+    uv = np.concatenate(uv)
+    scale, offset = transform.get("scale", [1, 1]), transform.get("offset", [0, 0])
+    if transform.get("rotation", 0.0) != 0.0:
+        refuse(f"the floor's texture transform rotates: {transform}")
+    lo, hi = uv.min(axis=0), uv.max(axis=0)
+    tlo, thi = [lo[i] * scale[i] + offset[i] for i in (0, 1)], [hi[i] * scale[i] + offset[i] for i in (0, 1)]
+    return (f"{path}: floor material {json.dumps(floor)}\n  texture {json.dumps(texture)}, sampler {json.dumps(sampler)},"
+            f" image {json.dumps(image)} ({w}x{h}, 8-bit sRGB values {values})\n"
+            f"  TEXCOORD_{info.get('texCoord', 0)} u {lo[0]:g}..{hi[0]:g}, v {lo[1]:g}..{hi[1]:g};"
+            f" after KHR_texture_transform u {min(tlo[0], thi[0]):g}..{max(tlo[0], thi[0]):g},"
+            f" v {min(tlo[1], thi[1]):g}..{max(tlo[1], thi[1]):g}\n"
+            f"  gold material {json.dumps(gold)}")
 
 
 def check_glass(path):
@@ -186,6 +347,20 @@ def cycles(out, path, samples, width, height):
     bpy.ops.import_scene.gltf(filepath=path)
     scene = bpy.context.scene
     notes = []
+    for mat in bpy.data.materials:
+        for node in (mat.node_tree.nodes if mat.node_tree else []):
+            if node.type == "BSDF_PRINCIPLED" and node.distribution != "GGX":
+                # glTF's microfacet BRDF is single-scattering GGX; the importer's Principled
+                # BSDF gets Blender's default, multiscatter GGX (brighter rough metal).
+                notes.append(f"{mat.name}: Principled distribution {node.distribution} set to GGX")
+                node.distribution = "GGX"
+            if node.type == "TEX_IMAGE" and node.image is not None:
+                notes.append(f"{mat.name}: image {node.image.name} ({node.image.size[0]}x{node.image.size[1]},"
+                             f" {node.image.colorspace_settings.name}), {node.interpolation}, {node.extension}")
+            if node.type == "MAPPING":
+                notes.append(f"{mat.name}: mapping {node.vector_type}, location "
+                             f"{tuple(round(v, 6) for v in node.inputs['Location'].default_value)}, scale "
+                             f"{tuple(round(v, 6) for v in node.inputs['Scale'].default_value)}")
     for obj in scene.objects:
         if obj.type == "LIGHT":
             light = obj.data
@@ -297,12 +472,14 @@ def main():
     ap.add_argument("--picture", default=None, help="with --compare: write Cycles | smlt pt [| smlt naive] as a PNG")
     ap.add_argument("--ev", type=float, default=0.0, help="the picture's exposure")
     ap.add_argument("--no-glass", action="store_true", help="the scene without its glass ball (the lamps, box and ball alone)")
+    ap.add_argument("--plain", action="store_true",
+                    help="the untextured scene of the first round trips: grey floor and white ball, no checker, no gold")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     if a.compare:
         compare(a.out, a.picture, a.ev)
         return
-    path = build(a.out, glass=not a.no_glass)
+    path = build(a.out, glass=not a.no_glass, plain=a.plain)
     cycles(a.out, path, a.samples, a.width, a.height)
 
 
