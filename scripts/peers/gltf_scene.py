@@ -2,8 +2,24 @@
 transforms, baseColorFactor, emissiveFactor x KHR_materials_emissive_strength, the Phong
 exponent in the material's extras, perspective cameras in depth-first scene order,
 KHR_lights_punctual lights in smlt's units: candela / 683 W/sr, lux / 683 W/m², glass from
-KHR_materials_transmission, _ior and _volume, glTF's metallic-roughness BRDF with KHR_materials_specular)
-into plain numpy arrays, for the peers' converters."""
+KHR_materials_transmission, _ior and _volume, glTF's metallic-roughness BRDF with KHR_materials_specular,
+textures: baseColorTexture, emissiveTexture and metallicRoughnessTexture with their samplers, texCoord
+and KHR_texture_transform, and the meshes' TEXCOORD_0 and TEXCOORD_1) into plain numpy arrays, for the
+peers' converters.
+
+Texture semantics (glTF 2.0, as smlt reads them, shared/src/texture.rs): texture coordinates (0, 0)
+are the image's top-left corner, v down; KHR_texture_transform maps them by T · R · S before the
+lookup; the sampler's wrapS/wrapT (REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT) and magFilter (NEAREST,
+else bilinear between texel centres) apply, minFilter does not (no mip-maps); colour textures are
+sRGB, decoded per texel before filtering; a factor multiplies the filtered texture. `sample` is an
+independent numpy implementation of that lookup, for the peers' checks.
+
+KHR_texture_transform's rotation: the extension's GLSL listing builds R with columns (cos, sin) and
+(-sin, cos); the extension's own example ("the lower left quadrant ... rotated
+clockwise 90°"), its sample model TextureTransformTest and the implementations (Babylon, Blender,
+three.js) turn the other way, R's columns (cos, -sin) and (sin, cos) (KhronosGroup/glTF#1563, open),
+which smlt follows. `load(..., rotation="example")` (the default) reads it as smlt does;
+`rotation="listing"` the other way."""
 
 import base64
 import json
@@ -16,6 +32,28 @@ import numpy as np
 PHONG_KEY = "smlt_phong_exponent"
 COMPONENT = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
+
+
+REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT = 10497, 33071, 33648
+NEAREST = 9728
+
+
+@dataclass
+class Texture:
+    """A material's use of a texture: the encoded image, its sampler, which TEXCOORD_n, and the
+    affine map of the coordinates (KHR_texture_transform, a 2 x 3 matrix [M | offset])."""
+
+    image: bytes  # PNG or JPEG, as stored
+    mime: str
+    nearest: bool  # magFilter NEAREST (else bilinear)
+    wrap_s: int  # glTF's enums
+    wrap_t: int
+    tex_coord: int
+    transform: np.ndarray
+
+    def coordinates(self, uv):
+        """The lookup's coordinates for mesh coordinates uv (..., 2)."""
+        return uv @ self.transform[:, :2].T + self.transform[:, 2]
 
 
 @dataclass
@@ -32,6 +70,16 @@ class Material:
     metallic: float = 0.0  # glTF's metallicFactor
     specular: float = 0.0  # KHR_materials_specular's specularFactor (1 without it)
     specular_color: tuple = (1.0, 1.0, 1.0)
+    base_color_texture: Texture | None = None  # sRGB; x albedo
+    emissive_texture: Texture | None = None  # sRGB; x emission
+    metallic_roughness_texture: Texture | None = None  # linear; G x roughness, B x metallic
+    metallic_factor: float = 1.0  # glTF's own factors (`metallic` above is a share derived from them)
+    roughness_factor: float = 1.0
+    transmission_factor: float = 0.0
+
+    @property
+    def textures(self):
+        return [t for t in (self.base_color_texture, self.emissive_texture, self.metallic_roughness_texture) if t]
 
     @property
     def f0(self):
@@ -75,6 +123,7 @@ class Light:
 class Scene:
     materials: list
     triangles: dict = field(default_factory=dict)  # material index -> (n, 3, 3) world-space vertices
+    texcoords: dict = field(default_factory=dict)  # material index -> (n, 3, 2, 2): TEXCOORD_0, _1 (0 if none)
     cameras: list = field(default_factory=list)
     lights: list = field(default_factory=list)
 
@@ -96,7 +145,54 @@ def _node_matrix(node):
     return t @ rot @ s
 
 
-def load(path):
+def texture_transform(offset=(0.0, 0.0), rotation=0.0, scale=(1.0, 1.0), sense="example"):
+    """KHR_texture_transform's T · R · S as [M | offset]: R's columns (cos, sin) and (-sin, cos)
+    as the extension's GLSL listing (`sense` "listing"), or the opposite turn of its example and
+    of the implementations ("example", smlt's reading; see the module doc)."""
+    if sense not in ("listing", "example"):
+        raise ValueError(f"rotation sense {sense!r}: listing or example")
+    c, s = math.cos(rotation), math.sin(rotation) * (1.0 if sense == "listing" else -1.0)
+    return np.array([[c * scale[0], -s * scale[1], offset[0]], [s * scale[0], c * scale[1], offset[1]]])
+
+
+def srgb_to_linear(c):
+    c = np.asarray(c, dtype=np.float64)
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def _wrap(i, n, mode):
+    if mode == CLAMP_TO_EDGE:
+        return np.clip(i, 0, n - 1)
+    if mode == MIRRORED_REPEAT:
+        m = np.mod(i, 2 * n)
+        return np.where(m >= n, 2 * n - 1 - m, m)
+    return np.mod(i, n)
+
+
+def sample(texels, tex, uv):
+    """glTF's lookup of `texels` ((h, w, c) linear values: sRGB already decoded) with `tex`'s
+    sampler at lookup coordinates uv (..., 2), written from the spec (OpenGL's rules: the
+    texel under the point, or the four texel centres around it; wrap per axis)."""
+    h, w = texels.shape[:2]
+    u, v = uv[..., 0], uv[..., 1]
+    if tex.wrap_s == CLAMP_TO_EDGE:
+        u = np.clip(u, 0.0, 1.0)
+    if tex.wrap_t == CLAMP_TO_EDGE:
+        v = np.clip(v, 0.0, 1.0)
+    x, y = u * w, v * h
+    if tex.nearest:
+        i, j = np.floor(x).astype(np.int64), np.floor(y).astype(np.int64)
+        return texels[_wrap(j, h, tex.wrap_t), _wrap(i, w, tex.wrap_s)]
+    x, y = x - 0.5, y - 0.5
+    i, j = np.floor(x).astype(np.int64), np.floor(y).astype(np.int64)
+    fx, fy = (x - i)[..., None], (y - j)[..., None]
+    i0, i1 = _wrap(i, w, tex.wrap_s), _wrap(i + 1, w, tex.wrap_s)
+    j0, j1 = _wrap(j, h, tex.wrap_t), _wrap(j + 1, h, tex.wrap_t)
+    return ((1 - fx) * (1 - fy) * texels[j0, i0] + fx * (1 - fy) * texels[j0, i1]
+            + (1 - fx) * fy * texels[j1, i0] + fx * fy * texels[j1, i1])
+
+
+def load(path, rotation="example"):
     doc = json.load(open(path))
     folder = os.path.dirname(os.path.abspath(path))
     buffers = []
@@ -122,6 +218,31 @@ def load(path):
             rows = [np.frombuffer(raw, dtype=dtype, count=width, offset=start + k * stride) for k in range(count)]
             out = np.concatenate(rows)
         return out.reshape(count, width) if width > 1 else out
+
+    def image_bytes(i):
+        img = doc["images"][i]
+        if "bufferView" in img:
+            view = doc["bufferViews"][img["bufferView"]]
+            start = view.get("byteOffset", 0)
+            return buffers[view["buffer"]][start:start + view["byteLength"]], img.get("mimeType", "")
+        uri = img["uri"]
+        if uri.startswith("data:"):
+            return base64.b64decode(uri.split(",", 1)[1]), uri[5:].split(";", 1)[0]
+        return open(os.path.join(folder, uri), "rb").read(), img.get("mimeType", "")
+
+    def texture(info):
+        if info is None:
+            return None
+        tex = doc["textures"][info["index"]]
+        if "source" not in tex:
+            return None  # an extension's image (KTX2, WebP): smlt uses the factor alone
+        image, mime = image_bytes(tex["source"])
+        sampler = doc["samplers"][tex["sampler"]] if "sampler" in tex else {}
+        t = info.get("extensions", {}).get("KHR_texture_transform", {})
+        return Texture(image, mime, sampler.get("magFilter") == NEAREST, sampler.get("wrapS", REPEAT),
+                       sampler.get("wrapT", REPEAT), int(t.get("texCoord", info.get("texCoord", 0))),
+                       texture_transform(t.get("offset", (0.0, 0.0)), t.get("rotation", 0.0),
+                                         t.get("scale", (1.0, 1.0)), rotation))
 
     # glTF's default material, as smlt: white, metallic 1, roughness 1
     materials = [Material("default", (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), 0.0, alpha=1.0, metallic=1.0, specular=1.0)]
@@ -150,7 +271,10 @@ def load(path):
         materials.append(Material(m.get("name", ""), tuple(base), emission, phong, t,
                                   ior, thin, attenuation, roughness ** 2, metal,
                                   float(spec.get("specularFactor", 1.0)),
-                                  tuple(spec.get("specularColorFactor", [1.0, 1.0, 1.0]))))
+                                  tuple(spec.get("specularColorFactor", [1.0, 1.0, 1.0])),
+                                  texture(pbr.get("baseColorTexture")), texture(m.get("emissiveTexture")),
+                                  texture(pbr.get("metallicRoughnessTexture")), metallic, roughness,
+                                  transmission))
     scene = Scene(materials)
     root = doc["scenes"][doc.get("scene", 0)]
     stack = [(n, np.eye(4)) for n in reversed(root["nodes"])]
@@ -183,12 +307,25 @@ def load(path):
                 pos = (world[:3, :3] @ pos.T).T + world[:3, 3]
                 idx = accessor(prim["indices"]).astype(np.int64) if "indices" in prim else np.arange(len(pos))
                 tris = pos[idx.reshape(-1, 3)]
+                attrs = prim["attributes"]
+                uv = np.zeros((len(tris), 3, 2, 2))
+                for k in (0, 1):
+                    if f"TEXCOORD_{k}" in attrs:
+                        # float, or normalised unsigned byte / short (glTF's three encodings)
+                        a = doc["accessors"][attrs[f"TEXCOORD_{k}"]]
+                        c = accessor(attrs[f"TEXCOORD_{k}"]).astype(np.float64)
+                        if a["componentType"] != 5126:
+                            c /= np.iinfo(COMPONENT[a["componentType"]]).max
+                        uv[:, :, :, k] = c[idx.reshape(-1, 3)]
                 if np.linalg.det(world[:3, :3]) < 0:
                     tris = tris[:, [0, 2, 1]]
+                    uv = uv[:, [0, 2, 1]]
                 m = prim.get("material", -1) + 1
                 scene.triangles.setdefault(m, []).append(tris)
+                scene.texcoords.setdefault(m, []).append(uv)
         stack.extend((c, world) for c in reversed(node.get("children", [])))
     scene.triangles = {m: np.concatenate(t) for m, t in scene.triangles.items()}
+    scene.texcoords = {m: np.concatenate(t) for m, t in scene.texcoords.items()}
     return scene
 
 

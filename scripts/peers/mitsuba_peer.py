@@ -27,7 +27,13 @@ reflecting 2R/(1+R) where glTF's single interface reflects R), tinted by baseCol
 with the BRDF rest by `blendbsdf` where transmissionFactor < 1; glTF's metallic-roughness BRDF
 otherwise -> `smlt_gltf`, a Python BSDF plugin written from the spec (`mitsuba_gltf.py`: Mitsuba
 has no glTF BRDF; `principled` is Disney's, see check_materials.sh); `--environment` as smlt's
--> `envmap` or `constant` (`environment_dict`).
+-> `envmap` or `constant` (`environment_dict`); textures (baseColorTexture on Lambert, emissiveTexture
+on an emitter) -> `bitmap` (`texture_dict`: Mitsuba's uv (0, 0) is the image's top-left as glTF's,
+its `ply` reads u, v unflipped; its texel centres, sRGB decoding, NEAREST and bilinear filters
+are glTF's; its one wrap mode for both axes is met by tiling the image where glTF's two differ;
+an emitter's texture coordinates become its mesh's own, see `mesh_textures`);
+`--texture-rotation` reads KHR_texture_transform's rotation as smlt and the implementations
+("example", the default) or as the extension's GLSL listing ("listing"; see gltf_scene.py).
 Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
 libllvm19 unpacked with dpkg-deb -x works), else `scalar_rgb`."""
 
@@ -42,6 +48,109 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import gltf_scene  # noqa: E402
 from peer_common import append_rows, arguments, equal_time_rows, errors, write_ply  # noqa: E402
+
+
+WRAP = {gltf_scene.REPEAT: "repeat", gltf_scene.CLAMP_TO_EDGE: "clamp", gltf_scene.MIRRORED_REPEAT: "mirror"}
+
+
+def decode(mi, tex, folder, srgb=True):
+    """The texture's image as Mitsuba decodes it: (h, w, 3) linear float32, sRGB decoded by
+    Mitsuba's Bitmap (what `bitmap` does with raw false) for a colour texture."""
+    ext = ".jpg" if "jpeg" in tex.mime or tex.image[:2] == b"\xff\xd8" else ".png"
+    path = os.path.join(folder, f"image{abs(hash(tex.image))}{ext}")
+    with open(path, "wb") as f:
+        f.write(tex.image)
+    bitmap = mi.Bitmap(path)
+    if not srgb:
+        bitmap.set_srgb_gamma(False)
+    return np.array(bitmap.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, srgb_gamma=False))
+
+
+def bake(texels, tex, coords):
+    """(texels, Mitsuba wrap mode, 3 x 3 map of glTF's lookup coordinates to the baked image's):
+    Mitsuba's `bitmap` has one wrap mode for both axes (and wants 2 x 2 texels at least), so an
+    axis whose glTF mode differs is tiled into the image, exactly (texel for texel, the bilinear
+    neighbours across each seam included): REPEAT + MIRRORED_REPEAT -> `repeat` over the image
+    and its mirror image (period 2); CLAMP_TO_EDGE + another -> `clamp` over the periods that
+    `coords` (the lookup coordinates at the mesh's vertices: an affine map's extremes) reach, one
+    spare period each side. An image one texel wide or high is doubled along that axis (the
+    same under every mode)."""
+    modes = [tex.wrap_s, tex.wrap_t]  # u: the image's columns (numpy axis 1), v: its rows (axis 0)
+    a = np.eye(3)
+    mode = modes[0]
+    if modes[0] != modes[1]:
+        clamp = gltf_scene.CLAMP_TO_EDGE
+        # the axis tiled: the one that is not CLAMP_TO_EDGE, or else the MIRRORED_REPEAT one
+        tiled = modes[0] != clamp if clamp in modes else modes[0] == gltf_scene.MIRRORED_REPEAT
+        axis = 0 if tiled else 1
+        np_axis = 1 - axis
+        mirrored = np.flip(texels, axis=np_axis)
+        if clamp in modes:
+            mode = clamp
+            lo = math.floor(coords[:, axis].min()) - 1
+            hi = math.floor(coords[:, axis].max()) + 2
+            if hi - lo > 64:
+                raise SystemExit(f"a texture's coordinates span {hi - lo} periods: too many to tile")
+            mirror = modes[axis] == gltf_scene.MIRRORED_REPEAT
+            texels = np.concatenate([mirrored if mirror and k % 2 else texels for k in range(lo, hi)], axis=np_axis)
+            a[axis] = 0.0
+            a[axis, axis] = 1.0 / (hi - lo)
+            a[axis, 2] = -lo / (hi - lo)
+        else:  # REPEAT on one axis, MIRRORED_REPEAT on `axis`
+            mode = gltf_scene.REPEAT
+            texels = np.concatenate([texels, mirrored], axis=np_axis)
+            a[axis, axis] = 0.5
+    for np_axis in (0, 1):
+        if texels.shape[np_axis] == 1:
+            texels = np.repeat(texels, 2, axis=np_axis)
+    return np.ascontiguousarray(texels, dtype=np.float32), WRAP[mode], a
+
+
+def texture_dict(mi, tex, factor, uv, folder, srgb=True, mesh=np.eye(3)):
+    """glTF texture `tex` times `factor` as Mitsuba's `bitmap`, for a mesh with glTF texture
+    coordinates uv (n, 3, 2) that Mitsuba's mesh holds as `mesh` (3 x 3, affine) maps them, or as
+    the lookup's own coordinates where `mesh` is None: the texels decoded by Mitsuba (`decode`),
+    baked for its wrap mode (`bake`), times the factor (exact: filtering is linear), stored as
+    float32 (`format` variant: its default keeps 8-bit images in half precision),
+    KHR_texture_transform and the bake's map as `to_uv`. Returns the dict and the lookup's map
+    of glTF's mesh coordinates to the bitmap's."""
+    texels = decode(mi, tex, folder, srgb)
+    coords = tex.coordinates(uv.reshape(-1, 2))
+    texels, mode, a = bake(texels, tex, coords)
+    texels = texels * np.asarray(factor, dtype=np.float32)
+    lookup = a @ np.vstack([tex.transform, [0.0, 0.0, 1.0]])
+    to_uv = np.eye(3) if mesh is None else lookup @ np.linalg.inv(mesh)
+    return {"type": "bitmap", "bitmap": mi.Bitmap(texels), "raw": True, "format": "variant",
+            "filter_type": "nearest" if tex.nearest else "bilinear", "wrap_mode": mode,
+            "to_uv": mi.ScalarTransform3f(mi.ScalarMatrix3f(to_uv.tolist()))}, lookup
+
+
+def mesh_textures(mi, mat, uv, folder):
+    """A textured material's (mesh texture coordinates (n, 3, 2), reflectance, radiance): the
+    `bitmap`s of its baseColorTexture and emissiveTexture (None without). Mitsuba's `area`
+    emitter samples a spatially varying radiance by the bitmap's own texel distribution over
+    [0, 1]² and maps the sampled uv onto the shape as mesh coordinates (`eval_parameterization`,
+    src/emitters/area.cpp: `to_uv` is not applied there), so an emissive texture's lookup
+    coordinates become the mesh's own, its `to_uv` the identity (the other texture's `to_uv`
+    undoes that), and they must cover [0, 1]² once: checked (total uv area 1, none outside),
+    refused otherwise, as Mitsuba's light sampling would then be biased."""
+    reflectance = radiance = None
+    mesh_uv = uv
+    if mat.emissive_texture:
+        radiance, lookup = texture_dict(mi, mat.emissive_texture, mat.emission, uv, folder, mesh=None)
+        mesh_uv = uv @ lookup[:2, :2].T + lookup[:2, 2]
+        e1, e2 = mesh_uv[:, 1] - mesh_uv[:, 0], mesh_uv[:, 2] - mesh_uv[:, 0]
+        area = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]).sum() / 2
+        if abs(area - 1) > 1e-4 or mesh_uv.min() < -1e-5 or mesh_uv.max() > 1 + 1e-5:
+            raise SystemExit(f"material {mat.name!r}: its emissiveTexture's coordinates cover {area:.4f} of"
+                             f" [0, 1]² within [{mesh_uv.min():.3f}, {mesh_uv.max():.3f}]: Mitsuba's `area`"
+                             " emitter samples a texture only where they cover it once")
+        mesh = lookup
+    else:
+        mesh = np.eye(3)
+    if mat.base_color_texture:
+        reflectance, _ = texture_dict(mi, mat.base_color_texture, mat.albedo, uv, folder, mesh=mesh)
+    return mesh_uv, reflectance, radiance
 
 
 def scene_dict(mi, scene, view, width, height, max_depth, folder):
@@ -70,8 +179,20 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
     for m, tris in scene.triangles.items():
         mat = scene.materials[m]
         path = os.path.join(folder, f"mesh{m}.ply")
-        write_ply(path, tris)
-        rgb = {"type": "rgb", "value": list(mat.albedo)}
+        uv = None
+        if mat.textures:
+            sets = {t.tex_coord for t in mat.textures}
+            if len(sets) > 1:
+                raise SystemExit(f"material {mat.name!r}: textures on TEXCOORD_0 and _1 (a Mitsuba mesh has one set)")
+            uv = scene.texcoords[m][:, :, :, sets.pop()]
+            if mat.metallic_roughness_texture or mat.phong > 0 or not mat.lambertian or mat.transmission > 0:
+                raise SystemExit(f"material {mat.name!r}: Mitsuba's peer reads textures on Lambert surfaces"
+                                 " (baseColorTexture) and emitters (emissiveTexture) only")
+        reflectance = radiance = None
+        if uv is not None:
+            uv, reflectance, radiance = mesh_textures(mi, mat, uv, folder)
+        write_ply(path, tris, uv)
+        rgb = reflectance or {"type": "rgb", "value": list(mat.albedo)}
         if mat.phong > 0:
             # mitsuba_phong.py's plugin, registered in main()
             bsdf = {"type": "smlt_phong", "reflectance": list(mat.albedo), "exponent": mat.phong}
@@ -102,7 +223,8 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
         if medium is not None:
             shape["interior"] = medium
         if max(mat.emission) > 0:
-            shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(mat.emission)}}
+            radiance = radiance or {"type": "rgb", "value": list(mat.emission)}
+            shape["emitter"] = {"type": "area", "radiance": radiance}
         d[f"mesh{m}"] = shape
     for i, light in enumerate(scene.lights):
         d[f"light{i}"] = light_dict(mi, light)
@@ -159,6 +281,9 @@ def main():
     ap.add_argument("--environment", default=None, help="as smlt's: FILE.exr|.hdr or R,G,B")
     ap.add_argument("--environment-strength", type=float, default=1.0)
     ap.add_argument("--environment-rotation", type=float, default=0.0, help="degrees about +Y")
+    ap.add_argument("--texture-rotation", choices=["listing", "example"], default="example",
+                    help="KHR_texture_transform's rotation: as smlt and the implementations, or as the GLSL listing")
+    ap.add_argument("--save", default=None, help="with --converged: write the image to this EXR")
     a = ap.parse_args()
 
     import mitsuba as mi
@@ -175,7 +300,7 @@ def main():
     import mitsuba_gltf
 
     mitsuba_gltf.register()
-    scene = gltf_scene.load(a.scene)
+    scene = gltf_scene.load(a.scene, rotation=a.texture_rotation)
     label = a.label or os.path.splitext(os.path.basename(a.scene))[0]
     reference = read_exr(mi, a.reference)
     if reference.shape[:2] != (a.height, a.width):
@@ -189,6 +314,8 @@ def main():
             start = time.time()
             img = np.array(m_scene.integrator().render(m_scene, seed=1, spp=a.converged))
             took = time.time() - start
+            if a.save:
+                mi.Bitmap(img.astype(np.float32)).write(a.save)
             mean_i, mean_r = img.mean(), reference.mean()
             flipped = errors(img[:, ::-1], reference)[0]
             print(f"{label} v{a.view}: {a.converged} spp in {took:.1f} s with {variant}; mean {mean_i:.5f} against the"

@@ -10,15 +10,19 @@ import numpy as np
 HEADER = "scene,view,method,repeat,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr,nan_inf,b,b_rel_se"
 
 
-def write_ply(path, tris):
-    """Binary PLY of flat triangles (n, 3, 3)."""
+def write_ply(path, tris, uv=None):
+    """Binary PLY of flat triangles (n, 3, 3), with texture coordinates uv (n, 3, 2) as the
+    vertices' `u`, `v` where given (Mitsuba's `ply` reads them as they are, no flip)."""
     verts = tris.reshape(-1, 3).astype("<f4")
-    faces = np.arange(len(verts), dtype="<i4").reshape(-1, 3)
+    if uv is not None:
+        verts = np.concatenate([verts, uv.reshape(-1, 2).astype("<f4")], axis=1)
+    faces = np.arange(len(tris) * 3, dtype="<i4").reshape(-1, 3)
+    texcoords = "property float u\nproperty float v\n" if uv is not None else ""
     with open(path, "wb") as f:
         f.write(
             (
                 "ply\nformat binary_little_endian 1.0\n"
-                f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n"
+                f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n{texcoords}"
                 f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
             ).encode()
         )

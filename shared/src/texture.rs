@@ -101,11 +101,15 @@ impl Default for TextureRef {
 pub const IDENTITY: [f32; 6] = [1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
 
 /// `KHR_texture_transform`'s matrix T · R · S as a [`TextureRef::transform`]: scale by `scale`,
-/// rotate by `rotation` radians (R's columns (cos, sin) and (−sin, cos), as the extension's
-/// GLSL builds it), then offset by `offset`.
+/// rotate by `rotation` radians counter-clockwise in glTF's UV space (u right, v down), then
+/// offset by `offset`. R's columns are (cos, −sin) and (sin, cos): u' = cos u + sin v,
+/// v' = −sin u + cos v — as the extension's sample model (TextureTransformTest), Blender's
+/// importer and exporter, Babylon.js and three.js rotate, and as KhronosGroup/glTF#1563 shows;
+/// the GLSL listing in the extension's README has the transposed matrix, which turns the other
+/// way on every file those tools write.
 pub fn texture_transform(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> [f32; 6] {
     let (s, c) = rotation.sin_cos();
-    [c * scale[0], s * scale[0], -s * scale[1], c * scale[1], offset[0], offset[1]]
+    [c * scale[0], -s * scale[0], s * scale[1], c * scale[1], offset[0], offset[1]]
 }
 
 /// A texel channel value's sRGB encoding decoded to linear (IEC 61966-2-1).

@@ -106,12 +106,13 @@ fn texture_transform_is_translation_rotation_scale_as_the_extension_writes_it() 
         tex_coord: 1,
         transform: texture_transform([0.5, -1.0], core::f32::consts::FRAC_PI_2, [2.0, 3.0]),
     };
-    // S(1, 0) = (2, 0); R(π/2) turns (x, y) to (−y, x) … (2, 0) → (0, 2); T adds (0.5, −1).
+    // S(1, 0) = (2, 0); R(π/2) turns (x, y) to (y, −x) (counter-clockwise with v down):
+    // (2, 0) → (0, −2); T adds (0.5, −1).
     let uv = r.coordinates(Vec2::new(9.0, 9.0), Vec2::new(1.0, 0.0));
-    assert!((uv - Vec2::new(0.5, 1.0)).abs().max_element() < 1e-6, "{uv}");
-    // (0, 1) → S (0, 3) → R (−3, 0) → T (−2.5, −1).
+    assert!((uv - Vec2::new(0.5, -3.0)).abs().max_element() < 1e-6, "{uv}");
+    // (0, 1) → S (0, 3) → R (3, 0) → T (3.5, −1).
     let uv = r.coordinates(Vec2::ZERO, Vec2::new(0.0, 1.0));
-    assert!((uv - Vec2::new(-2.5, -1.0)).abs().max_element() < 1e-6, "{uv}");
+    assert!((uv - Vec2::new(3.5, -1.0)).abs().max_element() < 1e-6, "{uv}");
     // texCoord 0 and the identity.
     let plain = TextureRef { texture: 0, tex_coord: 0, transform: IDENTITY };
     assert_eq!(plain.coordinates(Vec2::new(0.3, 0.7), Vec2::ZERO), Vec2::new(0.3, 0.7));
