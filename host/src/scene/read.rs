@@ -180,28 +180,24 @@ pub fn files_hash(path: &Path) -> Result<String, SceneError> {
     let mut bytes = std::fs::read(path).map_err(|e| fail(e.to_string()))?;
     if let Ok(gltf) = gltf::Gltf::from_slice(&bytes) {
         let dir = path.parent().unwrap_or(Path::new("."));
-        let buffers = gltf.buffers().filter_map(|b| match b.source() {
-            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => Some(uri.to_string()),
-            _ => None,
-        });
-        // Images read from the JSON: the crate's accessor panics on an image without a source.
-        let images =
-            gltf.as_json().images.iter().filter_map(|i| i.uri.clone()).filter(|u| !u.starts_with("data:"));
-        for uri in buffers.chain(images).collect::<Vec<_>>() {
-            let file =
-                urlencoding::decode(&uri).map(|p| dir.join(p.as_ref())).unwrap_or_else(|_| dir.join(&uri));
-            // A missing image is the loader's to report (or to leave out, if no material reads it).
-            match std::fs::read(&file) {
-                Ok(data) => bytes.extend(data),
-                Err(e)
-                    if gltf
-                        .buffers()
-                        .any(|b| matches!(b.source(), gltf::buffer::Source::Uri(u) if u == uri)) =>
-                {
-                    return Err(fail(format!("{uri}: {e}")))
-                }
-                Err(_) => bytes.extend(uri.as_bytes()),
-            }
+        let file =
+            |uri: &str| urlencoding::decode(uri).map_or_else(|_| dir.join(uri), |p| dir.join(p.as_ref()));
+        let buffers: Vec<String> = gltf
+            .buffers()
+            .filter_map(|b| match b.source() {
+                gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => Some(uri.to_string()),
+                _ => None,
+            })
+            .collect();
+        for uri in buffers {
+            bytes.extend(std::fs::read(file(&uri)).map_err(|e| fail(format!("{uri}: {e}")))?);
+        }
+        // Images from the JSON (the crate's accessor panics on an image without a source); a
+        // missing one is the loader's to report, or to leave out if no material reads it.
+        for uri in
+            gltf.as_json().images.iter().filter_map(|i| i.uri.as_deref()).filter(|u| !u.starts_with("data:"))
+        {
+            bytes.extend(std::fs::read(file(uri)).unwrap_or_else(|_| uri.as_bytes().to_vec()));
         }
     }
     Ok(crate::hash::content_hash(&bytes))
@@ -428,6 +424,9 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
     }
     soup.textures = store.textures;
     soup.texels = store.texels;
+    // Texture coordinates are kept for every triangle where any material reads them, none
+    // otherwise.
+    let any_textures = soup.material_textures.len() > 1;
     let scene =
         doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| SceneError::Empty(name.into()))?;
     // glTF's node hierarchy is a set of disjoint trees: a node reached twice has two parents or
@@ -590,7 +589,7 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                             }
                         }
                         soup.texcoords.push(TriangleTexcoords { uv });
-                    } else {
+                    } else if any_textures {
                         soup.texcoords.push(TriangleTexcoords::default());
                     }
                 }

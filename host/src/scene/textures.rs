@@ -59,20 +59,7 @@ impl TextureStore {
     ) -> Result<TextureRef, SceneError> {
         let transform = info.texture_transform();
         let tex_coord = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(info.tex_coord());
-        self.reference_of(source, info.texture().index(), tex_coord, transform, slot, warnings)
-    }
-
-    /// [`TextureStore::reference`] for texture `texture` read with `TEXCOORD_<tex_coord>` and
-    /// `KHR_texture_transform`'s `transform`.
-    pub fn reference_of(
-        &mut self,
-        source: &Source,
-        texture: usize,
-        tex_coord: u32,
-        transform: Option<gltf::texture::TextureTransform>,
-        slot: &str,
-        warnings: &mut Vec<String>,
-    ) -> Result<TextureRef, SceneError> {
+        let texture = info.texture().index();
         if tex_coord > 1 {
             return Err(SceneError::Unsupported {
                 path: source.name.into(),
