@@ -99,6 +99,7 @@ pub const SCENE_BINDINGS: &[Binding] = &[
     scene_binding(8, "textures", core::any::type_name::<shared::texture::Texture>),
     scene_binding(9, "texels", core::any::type_name::<u32>),
     scene_binding(10, "texcoords", core::any::type_name::<shared::surface::TriangleTexcoords>),
+    scene_binding(11, "normals", core::any::type_name::<shared::normals::TriangleNormals>),
 ];
 
 const fn scene_binding(binding: u32, name: &'static str, element: fn() -> &'static str) -> Binding {
@@ -293,6 +294,7 @@ macro_rules! stage {
             #[spirv(storage_buffer, descriptor_set = 1, binding = 8)] textures: &[shared::texture::Texture],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 9)] texels: &[u32],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 10)] texcoords: &[shared::surface::TriangleTexcoords],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 11)] normals: &[shared::normals::TriangleNormals],
         ], [
             scene: shared::scene::Scene {
                 caster: shared::cwbvh::WideBvh { nodes, triangles },
@@ -306,6 +308,7 @@ macro_rules! stage {
                 textures,
                 texels,
                 texcoords,
+                normals,
             },
         ]);
         impl<$lt, $r: shared::ray_caster::RayCaster + Copy> $io<$lt, $r> {

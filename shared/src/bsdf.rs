@@ -6,9 +6,19 @@
 //!
 //! Surfaces are two-sided for scattering: the BSDF works on the side that `wo` lies on, and
 //! `wo` and `wi` on opposite sides give 0 except through a dielectric: a smooth one's delta
-//! refraction, which only [`bsdf_sample`] produces, or a rough one's transmission lobe. A dielectric's sides are told by the geometric normal:
-//! a solid's mesh is closed with its normals outward. Emission is one-sided, along the
-//! triangle's geometric normal (its winding), see [`crate::light`].
+//! refraction, which only [`bsdf_sample`] produces, or a rough one's transmission lobe.
+//!
+//! **Two normals** ([`Normals`], `crate::normals`): the lobes are evaluated and sampled in the
+//! frame of the shading normal (glTF's interpolated `NORMAL`), while the geometric normal tells
+//! the sides: `wo` lies on one by it, `wi` on the same side is a reflection and on the other a
+//! transmission. Where the two normals disagree about a direction's side — `wo` below the
+//! shading hemisphere, or `wi` reflected by the shading normal but entering the surface (or the
+//! reverse) — f and the density are 0 and a sample of it fails, so a smooth surface neither
+//! leaks light through itself nor lights its back from the front (pbrt-v3's choice; its cost is
+//! a darker fringe where a coarse mesh's normals bend far, as in every renderer that makes it).
+//! With equal normals this is exactly the one-normal BSDF. A dielectric's inside is told by the
+//! geometric normal: a solid's mesh is closed with its normals outward. Emission is one-sided,
+//! along the triangle's geometric normal (its winding), see [`crate::light`].
 //!
 //! **Normalised Phong** (Lafortune and Willems 1994), exponent n, reflectance ρ:
 //! `f = ρ (n + 2)/(2π) cosⁿα`, α the angle between `wi` and the mirror direction of `wo`,
@@ -36,6 +46,7 @@ use core::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use crate::metallic_roughness::{self as brdf, MetallicRoughness};
+pub use crate::normals::Normals;
 
 /// A material (uploaded to the device as it is).
 #[repr(C)]
@@ -203,14 +214,25 @@ pub fn phong_lobe(exponent: f32, r: Vec3, wi: Vec3) -> f32 {
     (exponent * ln_one_minus(delta)).exp()
 }
 
-/// The side of the surface that `wo` is on: `n` or `−n`.
+/// The shading normal on the side of the surface (by the geometric normal) that `wo` is on, or
+/// None where `wo` lies in the surface or below that shading hemisphere (the BSDF is 0 there).
 #[inline]
-fn facing(n: Vec3, wo: Vec3) -> Vec3 {
-    if n.dot(wo) >= 0.0 {
-        n
+fn shading_side(n: Normals, wo: Vec3) -> Option<Vec3> {
+    let f = n.facing(wo);
+    if f.geometric.dot(wo) > 0.0 && f.shading.dot(wo) > 0.0 {
+        Some(f.shading)
     } else {
-        -n
+        None
     }
+}
+
+/// Whether the normals agree on the side of `w`: both put it on `wo`'s side, or both on the
+/// other (always, for equal normals). Where they do not, f and the density are 0 (the module
+/// doc).
+#[inline]
+fn sides_agree(n: Normals, wo: Vec3, w: Vec3) -> bool {
+    let f = n.facing(wo);
+    (f.geometric.dot(w) > 0.0) == (f.shading.dot(w) > 0.0)
 }
 
 /// The mirror direction of `wo` about `n`.
@@ -321,20 +343,22 @@ fn rough_dielectric_pdf(alpha: f32, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
     }
 }
 
-/// f(wo, wi) at a surface with geometric normal `n` (all unit; `wo` and `wi` point away);
-/// `radiance` is the transport mode (see [`dielectric_sample`]; only a rough dielectric's
-/// transmission depends on it).
+/// f(wo, wi) at a surface with normals `n` (all unit; `wo` and `wi` point away); `radiance` is
+/// the transport mode (see [`dielectric_sample`]; only a rough dielectric's transmission
+/// depends on it).
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
-pub fn bsdf_eval(m: &Material, n: Vec3, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
-    let ns = facing(n, wo);
-    if ns.dot(wo) <= 0.0 {
+pub fn bsdf_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
+    let Some(ns) = shading_side(n, wo) else {
+        return Vec3::ZERO;
+    };
+    if !sides_agree(n, wo, wi) {
         return Vec3::ZERO;
     }
     let t = m.transmission;
     if m.is_rough_dielectric() {
-        let eta = relative_ior(m, n, wo);
+        let eta = relative_ior(m, n.geometric, wo);
         let (f, transmits) =
             rough_dielectric_eval(m.alpha, eta, to_local(ns, wo), to_local(ns, wi), radiance);
         let tint = if transmits { Vec3::from_array(m.albedo) } else { Vec3::ONE };
@@ -378,14 +402,16 @@ fn brdf_pdf(m: &Material, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
-pub fn bsdf_pdf(m: &Material, n: Vec3, wo: Vec3, wi: Vec3) -> f32 {
-    let ns = facing(n, wo);
-    if ns.dot(wo) <= 0.0 {
+pub fn bsdf_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
+    let Some(ns) = shading_side(n, wo) else {
+        return 0.0;
+    };
+    if !sides_agree(n, wo, wi) {
         return 0.0;
     }
     let t = m.transmission;
     if m.is_rough_dielectric() {
-        let eta = relative_ior(m, n, wo);
+        let eta = relative_ior(m, n.geometric, wo);
         let rough = t * rough_dielectric_pdf(m.alpha, eta, to_local(ns, wo), to_local(ns, wi));
         return rough + (1.0 - t) * brdf_pdf(m, ns, wo, wi);
     }
@@ -467,15 +493,14 @@ pub fn transmittance(sigma: Vec3, distance: f32) -> Vec3 {
 /// tracer), where refraction scales radiance by 1/η² (Veach's thesis §5.2); importance
 /// transport (a light subpath) takes the adjoint, which does not.
 #[inline]
-fn dielectric_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
-    let ns = facing(n, wo);
+fn dielectric_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
     let t = m.transmission;
     if u.x >= t {
         let v = Vec2::new(((u.x - t) / (1.0 - t)).min(1.0 - f32::EPSILON), u.y);
-        return brdf_sample(m, n, wo, v, radiance, 1.0 - t);
+        return brdf_sample(m, n, ns, wo, v, radiance, 1.0 - t);
     }
     let v = u.x / t;
-    let eta = relative_ior(m, n, wo);
+    let eta = relative_ior(m, n.geometric, wo);
     if m.is_rough_dielectric() {
         // Reflect or transmit first (by the macro Fresnel factor), then a visible normal.
         let p_r = reflection_probability(ns.dot(wo), eta);
@@ -532,16 +557,27 @@ fn dielectric_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool) -
 /// Samples `wi` for `wo` with `u` ∈ [0,1)²; `radiance` is the transport mode (see
 /// [`dielectric_sample`]; the other lobes are reciprocal).
 #[inline]
-pub fn bsdf_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
-    let ns = facing(n, wo);
-    if ns.dot(wo) <= 0.0 {
+pub fn bsdf_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
+    let Some(ns) = shading_side(n, wo) else {
+        return BsdfSample::default();
+    };
+    let bs = lobe_sample(m, n, ns, wo, u, radiance);
+    // A delta lobe's direction where the normals disagree on its side fails (the others'
+    // densities are 0 there already).
+    if bs.delta && !sides_agree(n, wo, bs.wi) {
         return BsdfSample::default();
     }
+    bs
+}
+
+/// [`bsdf_sample`]'s lobes, `ns` the shading normal on `wo`'s side.
+#[inline]
+fn lobe_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
     if m.transmission > 0.0 {
-        return dielectric_sample(m, n, wo, u, radiance);
+        return dielectric_sample(m, n, ns, wo, u, radiance);
     }
     if m.phong_exponent <= 0.0 {
-        return brdf_sample(m, n, wo, u, radiance, 1.0);
+        return brdf_sample(m, n, ns, wo, u, radiance, 1.0);
     }
     // cos α = (1 − u)^(1/(n+1)), computed as exp(x) with 1 − cos α = −expm1(x).
     let x = (1.0 - u.x).ln() / (m.phong_exponent + 1.0);
@@ -558,13 +594,20 @@ pub fn bsdf_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> 
     BsdfSample { wi, f: bsdf_eval(m, n, wo, wi, radiance), pdf, delta: false }
 }
 
-/// Samples the glTF BRDF of `m` (wo on the side it faces of `n`), which is the `share` of the
-/// material: its mirror as a delta of that share's probability, any other direction with the
-/// whole material's f and density.
+/// Samples the glTF BRDF of `m` (`ns` the shading normal on wo's side), which is the `share`
+/// of the material: its mirror as a delta of that share's probability, any other direction
+/// with the whole material's f and density.
 // Always: the Lambert test is a few compares, and a call here cost the path tracer 3 %.
 #[inline(always)]
-fn brdf_sample(m: &Material, n: Vec3, wo: Vec3, u: Vec2, radiance: bool, share: f32) -> BsdfSample {
-    let ns = facing(n, wo);
+fn brdf_sample(
+    m: &Material,
+    n: Normals,
+    ns: Vec3,
+    wo: Vec3,
+    u: Vec2,
+    radiance: bool,
+    share: f32,
+) -> BsdfSample {
     let wi = if m.is_lambertian() {
         cosine_hemisphere(ns, u)
     } else {

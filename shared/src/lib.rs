@@ -16,8 +16,9 @@
 //! - [`camera`], [`bsdf`] (with [`microfacet`]'s GGX), [`light`], [`punctual`], [`environment`] (both from outside the scene: [`distant`]),
 //!   [`triangle`]: the scene primitives, and
 //!   [`color`]'s luminance;
-//! - [`texture`]: texture lookups from one texel buffer; [`surface`]: the material at a
-//!   surface point, its textures applied;
+//! - [`texture`]: texture lookups from one texel buffer; [`surface`]: the material and the
+//!   normals at a surface point, its textures applied; [`normals`]: geometric and shading
+//!   normals, and the adjoint's cosine;
 //! - [`params`]: what every dispatch of the chains' stages knows;
 //! - [`ray_caster`]: the one seam between the path code and ray casting (and the ray origin
 //!   offset every path code uses), and [`cwbvh`], the
@@ -47,6 +48,7 @@ pub mod microfacet;
 pub mod mmlt;
 pub mod mutation;
 pub mod normalisation;
+pub mod normals;
 pub mod params;
 pub mod path_tracer;
 pub mod pssmlt;

@@ -22,11 +22,12 @@ use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample, medium_coefficient, transmit
 use crate::camera::Camera;
 use crate::light::emitted;
 use crate::light::{is_environment, is_punctual, punctual_index, sample_light};
+use crate::normals::scattering_cosine;
 use crate::ray_caster::spawn;
 use crate::ray_caster::RayCaster;
 use crate::rng::{self, RngKey};
 use crate::scene::Scene;
-use crate::surface::material_at;
+use crate::surface::{material_at, normals_at};
 use crate::triangle::NO_HIT;
 
 /// What the path tracer's kernel knows (uploaded before each of its rounds: a round adds
@@ -197,7 +198,10 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         let tri = scene.triangles[hit.triangle as usize];
         let p = origin + d * hit.t;
         let m = material_at(&scene, hit.triangle, p);
-        let n = tri.normal();
+        let normals = normals_at(&scene, hit.triangle, p);
+        // The geometric normal: emission, offsets, media (`crate::normals`); the BSDF and its
+        // cosine take both.
+        let n = normals.geometric;
         let wo = -d;
         if sigma.max_element() > 0.0 {
             beta *= transmittance(sigma, hit.t);
@@ -225,25 +229,29 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         if is_environment(ls.light) {
             // A direction towards the environment: a shadow ray out of the scene's bounds.
             let wi = -ls.n;
-            let f = bsdf_eval(&m, n, wo, wi, true);
+            let f = bsdf_eval(&m, normals, wo, wi, true);
             if ls.emission.max_element() > 0.0 && f.max_element() > 0.0 && ls.pdf_area > 0.0 {
                 let from = spawn(p, n, wi, settings.epsilon);
                 let reach = (scene.environment.beyond(from, wi) - from).length();
                 if !scene.caster.occluded(from, wi, 0.0, reach) {
-                    let weight = power_heuristic(ls.pdf_area, bsdf_pdf(&m, n, wo, wi));
-                    radiance += beta * f * ls.emission * (n.dot(wi).abs() * weight / ls.pdf_area);
+                    let weight = power_heuristic(ls.pdf_area, bsdf_pdf(&m, normals, wo, wi));
+                    radiance += beta
+                        * f
+                        * ls.emission
+                        * (scattering_cosine(normals, wo, wi, true) * weight / ls.pdf_area);
                 }
             }
         } else if is_punctual(ls.light) {
             // A delta light: no BSDF sample finds it, so the light sample takes it all.
             let inc = scene.punctual[punctual_index(ls.light) as usize].incident(p);
-            let f = bsdf_eval(&m, n, wo, inc.wi, true);
+            let f = bsdf_eval(&m, normals, wo, inc.wi, true);
             if inc.radiance.max_element() > 0.0 && f.max_element() > 0.0 && ls.pick > 0.0 {
                 let from = spawn(p, n, inc.wi, settings.epsilon);
                 let span = inc.from - from;
                 let len = span.length();
                 if len > 0.0 && !scene.caster.occluded(from, span / len, 0.0, len) {
-                    radiance += beta * f * inc.radiance * (n.dot(inc.wi).abs() / ls.pick);
+                    radiance +=
+                        beta * f * inc.radiance * (scattering_cosine(normals, wo, inc.wi, true) / ls.pick);
                 }
             }
         } else {
@@ -254,7 +262,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
                 let dist = dist2.sqrt();
                 let wl = to_light / dist;
                 let le = emitted(ls.emission, nq, -wl);
-                let f = bsdf_eval(&m, n, wo, wl, true);
+                let f = bsdf_eval(&m, normals, wo, wl, true);
                 let cos_l = nq.dot(wl).abs();
                 if le.max_element() > 0.0 && f.max_element() > 0.0 && cos_l > 0.0 {
                     let pdf_light = ls.pdf_area * dist2 / cos_l;
@@ -263,18 +271,19 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
                     let span = target - from;
                     let len = span.length();
                     if !scene.caster.occluded(from, span / len, 0.0, len) {
-                        let weight = power_heuristic(pdf_light, bsdf_pdf(&m, n, wo, wl));
-                        radiance += beta * f * le * (n.dot(wl).abs() * weight / pdf_light);
+                        let weight = power_heuristic(pdf_light, bsdf_pdf(&m, normals, wo, wl));
+                        radiance +=
+                            beta * f * le * (scattering_cosine(normals, wo, wl, true) * weight / pdf_light);
                     }
                 }
             }
         }
         // Continue by sampling the BSDF.
-        let bs = bsdf_sample(&m, n, wo, Vec2::new(u[3], u[4]), true);
+        let bs = bsdf_sample(&m, normals, wo, Vec2::new(u[3], u[4]), true);
         if !(bs.pdf > 0.0) {
             break;
         }
-        beta *= bs.f * (bs.wi.dot(n).abs() / bs.pdf);
+        beta *= bs.f * (scattering_cosine(normals, wo, bs.wi, true) / bs.pdf);
         if v >= ROULETTE_DEPTH {
             let q = continuation_probability(beta);
             if !(u[5] < q) {

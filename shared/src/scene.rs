@@ -1,5 +1,5 @@
-//! The scene as the kernels see it: a ray caster over the triangles, and the triangles,
-//! materials and their textures, punctual lights, environment light and light-selection CDF
+//! The scene as the kernels see it: a ray caster over the triangles, and the triangles, their
+//! vertex normals, materials and their textures, punctual lights, environment light and light-selection CDF
 //! that shading and light sampling read (slices of device buffers on the device, of host
 //! buffers on the CPU backend). Every binding holds at least one element, as a device buffer
 //! cannot be empty.
@@ -7,6 +7,7 @@
 use crate::bsdf::Material;
 use crate::environment::Environment;
 use crate::light::LightEntry;
+use crate::normals::TriangleNormals;
 use crate::punctual::PunctualLight;
 use crate::surface::{MaterialTextures, TriangleTexcoords};
 use crate::texture::Texture;
@@ -39,4 +40,7 @@ pub struct Scene<'a, R> {
     /// Per triangle in the triangles' order where any material has textures; one zeroed entry
     /// otherwise.
     pub texcoords: &'a [TriangleTexcoords],
+    /// Per triangle in the triangles' order where any mesh has smooth normals; one zeroed
+    /// (flat) entry otherwise.
+    pub normals: &'a [TriangleNormals],
 }

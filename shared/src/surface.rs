@@ -1,7 +1,7 @@
-//! The material at a surface point: a triangle's material with its textures looked up at the
-//! point's texture coordinates — what every stage shades with, from a hit (trace, the path
-//! tracer), a stored path vertex (connect: its position and triangle) or a point sampled on a
-//! light.
+//! The material and the normals at a surface point: a triangle's material with its textures
+//! looked up at the point's texture coordinates, and its geometric and shading normals
+//! ([`normals_at`]) — what every stage shades with, from a hit (trace, the path tracer), a
+//! stored path vertex (connect: its position and triangle) or a point sampled on a light.
 //!
 //! A material without textures ([`Material::textures`] 0) is the triangle's material as it is;
 //! otherwise (glTF 2.0's `pbrMetallicRoughness` and `emissiveTexture`):
@@ -14,13 +14,15 @@
 //! Texture coordinates are interpolated over the triangle from its vertices' `TEXCOORD_0` and
 //! `TEXCOORD_1` ([`TriangleTexcoords`]) at the point's barycentric coordinates, which
 //! [`barycentrics`] recovers from the point itself: a path vertex stores its position, not its
-//! coordinates, and recovering them gives the trace and connect stages the same material at
-//! the same vertex.
+//! coordinates, and recovering them gives the trace and connect stages the same material and
+//! shading normal at the same vertex. The shading normal is interpolated the same way from the
+//! vertices' `NORMAL` ([`TriangleNormals`]; `crate::normals` says which normal is used where).
 
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::bsdf::Material;
 use crate::element::element_or;
+use crate::normals::{shading_normal, Normals, TriangleNormals};
 use crate::scene::Scene;
 use crate::texture::{sample, Texture, TextureRef};
 use crate::triangle::Triangle;
@@ -97,6 +99,22 @@ pub fn material_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Material {
         return m;
     }
     textured(scene, m, triangle, barycentrics(&tri, p))
+}
+
+/// The geometric and shading normals of triangle `triangle` at the point `p` on it: the flat
+/// triangle's normal as both where it has no vertex normals.
+#[inline]
+pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
+    let tri = scene.triangles[triangle as usize];
+    let ng = tri.normal();
+    // No panic path (`crate::element`); a triangle beyond the buffer (a scene without normals
+    // has one entry) is flat.
+    let vertex = element_or(scene.normals, triangle as usize, TriangleNormals::default());
+    // Stored normals are unit, so a zero first one marks a flat triangle.
+    if vertex.n[0] == 0.0 && vertex.n[1] == 0.0 && vertex.n[2] == 0.0 {
+        return Normals::flat(ng);
+    }
+    Normals { geometric: ng, shading: shading_normal(vertex.at(barycentrics(&tri, p)), ng) }
 }
 
 /// The material of triangle `triangle` at barycentric coordinates `b` (see the module doc).

@@ -31,7 +31,7 @@ fn lambert_weight_is_the_albedo() {
     let n = Vec3::Y;
     for i in 0..1000 {
         let wo = cosine_hemisphere(if i % 2 == 0 { n } else { -n }, u2(i, 2));
-        let s = bsdf_sample(&m, n, wo, u2(i, 3), true);
+        let s = bsdf_sample(&m, Normals::flat(n), wo, u2(i, 3), true);
         assert!(s.pdf > 0.0);
         let w = s.f * s.wi.dot(n).abs() / s.pdf;
         assert!((w - Vec3::splat(0.6)).abs().max_element() < 1e-4, "{w}");
@@ -46,11 +46,11 @@ fn bsdfs_are_reciprocal_and_reflect_only() {
             let n = Vec3::new(0.3, 0.9, -0.1).normalize();
             let wo = cosine_hemisphere(n, u2(i, 4));
             let wi = cosine_hemisphere(n, u2(i, 5));
-            let a = bsdf_eval(&m, n, wo, wi, true);
-            let b = bsdf_eval(&m, n, wi, wo, true);
+            let a = bsdf_eval(&m, Normals::flat(n), wo, wi, true);
+            let b = bsdf_eval(&m, Normals::flat(n), wi, wo, true);
             assert!((a - b).abs().max_element() <= 1e-5 * a.max_element().max(1.0));
-            assert_eq!(bsdf_eval(&m, n, wo, -wi, true), Vec3::ZERO);
-            assert_eq!(bsdf_pdf(&m, n, wo, -wi), 0.0);
+            assert_eq!(bsdf_eval(&m, Normals::flat(n), wo, -wi, true), Vec3::ZERO);
+            assert_eq!(bsdf_pdf(&m, Normals::flat(n), wo, -wi), 0.0);
         }
     }
 }
@@ -72,7 +72,7 @@ fn phong_pdf_is_a_density_and_sampling_follows_it() {
             let r = (1.0 - z * z).max(0.0).sqrt();
             let phi = 2.0 * PI * u.y;
             let wi = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-            integral += (bsdf_pdf(&m, n, wo, wi) * 4.0 * PI) as f64 / samples as f64;
+            integral += (bsdf_pdf(&m, Normals::flat(n), wo, wi) * 4.0 * PI) as f64 / samples as f64;
         }
         // wo = n: the lobe about the mirror direction n lies wholly above the surface.
         assert!((integral - 1.0).abs() < 0.02, "e = {e}: ∫pdf = {integral}");
@@ -87,7 +87,7 @@ fn phong_pdf_is_a_density_and_sampling_follows_it() {
     let mut below_median = 0;
     let median_delta = 1.0 - (0.5f64).powf(1.0 / (e as f64 + 1.0)); // 1 − cos α at the median
     for i in 0..samples {
-        let s = bsdf_sample(&m, n, wo, u2(i, 7), true);
+        let s = bsdf_sample(&m, Normals::flat(n), wo, u2(i, 7), true);
         assert!(s.pdf > 0.0 && s.pdf.is_finite() && s.f.is_finite());
         let delta = (r - s.wi).length_squared() as f64 * 0.5;
         if delta < median_delta {
@@ -108,7 +108,7 @@ fn phong_1e5_at_grazing_angles_is_finite_and_consistent() {
         let wo = Vec3::new((1.0 - cos_o * cos_o).sqrt(), cos_o, 0.0);
         let mut ok = 0;
         for i in 0..10_000 {
-            let s = bsdf_sample(&m, n, wo, u2(i, 8), true);
+            let s = bsdf_sample(&m, Normals::flat(n), wo, u2(i, 8), true);
             if s.pdf == 0.0 {
                 continue; // sampled below the surface: a failed sample, not an error
             }
@@ -122,7 +122,7 @@ fn phong_1e5_at_grazing_angles_is_finite_and_consistent() {
     }
     // The peak value is large but finite.
     let wo = Vec3::new(0.0, 1.0, 0.0);
-    let f = bsdf_eval(&m, n, wo, wo, true);
+    let f = bsdf_eval(&m, Normals::flat(n), wo, wo, true);
     assert!(f.is_finite() && f.x > 1e4);
 }
 
@@ -203,7 +203,7 @@ fn glass_conserves_energy_and_mirrors_by_fresnel() {
             let mut mirrored = 0;
             for i in 0..trials {
                 for radiance in [false, true] {
-                    let s = bsdf_sample(&m, n, wo, u2(i, 31 + k as u32), radiance);
+                    let s = bsdf_sample(&m, Normals::flat(n), wo, u2(i, 31 + k as u32), radiance);
                     assert!(s.delta && s.pdf > 0.0);
                     let w = s.f * s.wi.dot(n).abs() / s.pdf;
                     let is_mirror = s.wi.dot(n) * wo.dot(n) > 0.0;
@@ -215,8 +215,8 @@ fn glass_conserves_energy_and_mirrors_by_fresnel() {
                     if !radiance && is_mirror {
                         mirrored += 1;
                     }
-                    assert_eq!(bsdf_eval(&m, n, wo, s.wi, radiance), Vec3::ZERO);
-                    assert_eq!(bsdf_pdf(&m, n, wo, s.wi), 0.0);
+                    assert_eq!(bsdf_eval(&m, Normals::flat(n), wo, s.wi, radiance), Vec3::ZERO);
+                    assert_eq!(bsdf_pdf(&m, Normals::flat(n), wo, s.wi), 0.0);
                 }
             }
             let share = mirrored as f64 / trials as f64;
@@ -238,12 +238,12 @@ fn partial_transmission_mixes_glass_and_lambert() {
     let mut sum = 0.0f64;
     let mut diffuse = 0;
     for i in 0..trials {
-        let s = bsdf_sample(&m, n, wo, u2(i, 40), false);
+        let s = bsdf_sample(&m, Normals::flat(n), wo, u2(i, 40), false);
         let w = s.f * s.wi.dot(n).abs() / s.pdf;
         if !s.delta {
             diffuse += 1;
-            assert!((s.pdf - bsdf_pdf(&m, n, wo, s.wi)).abs() < 1e-6);
-            assert!((s.f - bsdf_eval(&m, n, wo, s.wi, false)).abs().max_element() < 1e-6);
+            assert!((s.pdf - bsdf_pdf(&m, Normals::flat(n), wo, s.wi)).abs() < 1e-6);
+            assert!((s.f - bsdf_eval(&m, Normals::flat(n), wo, s.wi, false)).abs().max_element() < 1e-6);
         }
         sum += w.x as f64;
     }
@@ -284,13 +284,16 @@ fn rough_dielectric_samples_match_eval_and_pdf() {
         let mut ok = 0;
         for i in 0..trials {
             for radiance in [true, false] {
-                let s = bsdf_sample(&m, n, wo, u2(i, 50), radiance);
+                let s = bsdf_sample(&m, Normals::flat(n), wo, u2(i, 50), radiance);
                 if !(s.pdf > 0.0) {
                     continue;
                 }
                 ok += usize::from(radiance);
                 assert!(!s.delta);
-                let (pdf, f) = (bsdf_pdf(&m, n, wo, s.wi), bsdf_eval(&m, n, wo, s.wi, radiance));
+                let (pdf, f) = (
+                    bsdf_pdf(&m, Normals::flat(n), wo, s.wi),
+                    bsdf_eval(&m, Normals::flat(n), wo, s.wi, radiance),
+                );
                 assert!((s.pdf - pdf).abs() <= 1e-3 * pdf, "α {alpha} wo {wo}: pdf {} vs {pdf}", s.pdf);
                 assert!((s.f - f).abs().max_element() <= 1e-3 * f.max_element(), "{} vs {f}", s.f);
             }
@@ -307,7 +310,8 @@ fn rough_dielectric_samples_match_eval_and_pdf() {
             for j in 0..np {
                 let phi = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
                 let wi = (t * (s * phi.cos()) as f32 + b * (s * phi.sin()) as f32 + n * c as f32).normalize();
-                integral += bsdf_pdf(&m, n, wo, wi) as f64 * dc * 2.0 * std::f64::consts::PI / np as f64;
+                integral += bsdf_pdf(&m, Normals::flat(n), wo, wi) as f64 * dc * 2.0 * std::f64::consts::PI
+                    / np as f64;
             }
         }
         let share = ok as f64 / trials as f64;
@@ -329,7 +333,7 @@ fn rough_dielectric_sampling_follows_its_density() {
         let (nc, np) = (20usize, 12usize);
         let mut counts = vec![0u32; nc * np];
         for i in 0..samples {
-            let s = bsdf_sample(&m, n, wo, u2(i, 60), true);
+            let s = bsdf_sample(&m, Normals::flat(n), wo, u2(i, 60), true);
             if s.pdf > 0.0 {
                 let c = s.wi.dot(n);
                 let phi = s.wi.dot(b).atan2(s.wi.dot(t)) + PI;
@@ -355,7 +359,7 @@ fn rough_dielectric_sampling_follows_its_density() {
                             .normalize();
                         let cell = (2.0 / nc as f64 / k as f64)
                             * (2.0 * std::f64::consts::PI / np as f64 / k as f64);
-                        p += bsdf_pdf(&m, n, wo, wi) as f64 * cell;
+                        p += bsdf_pdf(&m, Normals::flat(n), wo, wi) as f64 * cell;
                     }
                 }
                 let expected = p * samples as f64;
@@ -381,8 +385,8 @@ fn rough_dielectric_adjoint_and_energy() {
         let m = rough_glass(alpha, 1.0);
         for i in 0..2000 {
             let wi = crate::punctual::uniform_sphere(u2(i, 70));
-            let a = bsdf_eval(&m, n, wo, wi, false);
-            let b = bsdf_eval(&m, n, wi, wo, true);
+            let a = bsdf_eval(&m, Normals::flat(n), wo, wi, false);
+            let b = bsdf_eval(&m, Normals::flat(n), wi, wo, true);
             // Within f32's reach of the Fresnel factor where a micro-normal's refraction grazes.
             let scale = a.max_element().max(b.max_element());
             assert!((a - b).abs().max_element() <= 2e-3 * scale + 1e-5, "α {alpha}: {a} vs {b}");
@@ -390,7 +394,7 @@ fn rough_dielectric_adjoint_and_energy() {
         let trials = 40_000;
         let mut albedo = 0.0f64;
         for i in 0..trials {
-            let s = bsdf_sample(&m, n, wo, u2(i, 71), false);
+            let s = bsdf_sample(&m, Normals::flat(n), wo, u2(i, 71), false);
             if s.pdf > 0.0 {
                 albedo += (s.f.x * s.wi.dot(n).abs() / s.pdf) as f64;
             }
@@ -411,16 +415,16 @@ fn partial_rough_transmission_mixes_with_lambert() {
     let n = Vec3::Y;
     let wo = Vec3::new(0.3, 0.9, 0.0).normalize();
     for i in 0..5000 {
-        let s = bsdf_sample(&m, n, wo, u2(i, 80), true);
+        let s = bsdf_sample(&m, Normals::flat(n), wo, u2(i, 80), true);
         if s.pdf > 0.0 {
-            assert!((s.pdf - bsdf_pdf(&m, n, wo, s.wi)).abs() <= 1e-3 * s.pdf);
+            assert!((s.pdf - bsdf_pdf(&m, Normals::flat(n), wo, s.wi)).abs() <= 1e-3 * s.pdf);
         }
     }
     let wi = Vec3::new(-0.2, 0.95, 0.1).normalize();
-    let glass_only = bsdf_eval(&rough_glass(0.3, 0.4), n, wo, wi, true);
+    let glass_only = bsdf_eval(&rough_glass(0.3, 0.4), Normals::flat(n), wo, wi, true);
     let diffuse = Vec3::splat(0.6 * 0.6 / PI);
     // the tint applies to transmission only: here wi reflects
-    let f = bsdf_eval(&m, n, wo, wi, true);
+    let f = bsdf_eval(&m, Normals::flat(n), wo, wi, true);
     assert!((f - (glass_only + diffuse - Vec3::splat(0.6 / PI))).abs().max_element() < 1e-5, "{f}");
 }
 
@@ -439,5 +443,94 @@ fn metallic_and_transmission_mix_as_the_spec_does() {
             (dielectric - (1.0 - m) * (1.0 - tr)).abs() < 1e-6,
             "dielectric {dielectric} for ({m}, {tr})"
         );
+    }
+}
+
+/// The materials of the shading-normal tests: Lambert, a rough metal (glTF's BRDF), a smooth
+/// and a rough solid glass, a thin glass wall.
+fn shading_cases() -> [Material; 5] {
+    let metal = Material {
+        albedo: [0.9, 0.6, 0.2],
+        alpha: 0.09,
+        metallic: 1.0,
+        specular: 1.0,
+        specular_color: [1.0; 3],
+        ior: 1.5,
+        ..Default::default()
+    };
+    let thin = Material { thin_walled: 1, ..glass(1.0, false) };
+    [lambert(0.7), metal, glass(1.0, true), rough_glass(0.2, 1.0), thin]
+}
+
+/// A shading normal tilted 25° from the geometric +Y, and directions on a sphere.
+fn tilted() -> (Normals, impl Fn(u32, u32) -> Vec3) {
+    let ns = Vec3::new(25f32.to_radians().sin(), 25f32.to_radians().cos(), 0.0);
+    let sphere = |i: u32, seed: u32| {
+        let u = u2(i, seed);
+        let z = 1.0 - 2.0 * u.x;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * (2.0 * PI * u.y).cos(), r * (2.0 * PI * u.y).sin(), z)
+    };
+    (Normals { geometric: Vec3::Y, shading: ns }, sphere)
+}
+
+/// With a shading normal, the lobes are the flat BSDF's about the shading normal wherever the
+/// two normals agree on both directions' sides, and 0 (f and density) wherever they do not:
+/// `wo` below the shading hemisphere, or `wi` reflected by one normal and transmitted by the
+/// other (a leak through the surface).
+#[test]
+fn shading_normals_turn_the_lobes_and_sides_follow_the_geometry() {
+    let (n, sphere) = tilted();
+    for m in shading_cases() {
+        let (mut agreeing, mut disagreeing) = (0, 0);
+        for i in 0..4000 {
+            let (wo, wi) = (sphere(i, 11), sphere(i, 12));
+            let g = n.facing(wo);
+            let wo_ok = g.geometric.dot(wo) > 0.0 && g.shading.dot(wo) > 0.0;
+            let wi_ok = (g.geometric.dot(wi) > 0.0) == (g.shading.dot(wi) > 0.0);
+            let (f, pdf) = (bsdf_eval(&m, n, wo, wi, true), bsdf_pdf(&m, n, wo, wi));
+            if wo_ok && wi_ok {
+                agreeing += 1;
+                // The flat BSDF about the shading normal (outward as the geometric one: the
+                // dielectric's inside is the same side).
+                let flat = Normals::flat(n.shading);
+                assert_eq!((f, pdf), (bsdf_eval(&m, flat, wo, wi, true), bsdf_pdf(&m, flat, wo, wi)));
+            } else {
+                disagreeing += 1;
+                assert_eq!((f, pdf), (Vec3::ZERO, 0.0), "wo {wo} wi {wi}");
+            }
+        }
+        assert!(agreeing > 1000 && disagreeing > 500, "{agreeing} {disagreeing}");
+    }
+}
+
+/// Samples with a shading normal: every one lands where the normals agree, reports the f and
+/// density that eval and pdf give its direction (a delta its lobe's weight), and `wo` below
+/// the shading hemisphere gives none.
+#[test]
+fn shading_normal_samples_agree_with_eval_and_pdf() {
+    let (n, sphere) = tilted();
+    for m in shading_cases() {
+        let mut found = 0;
+        for i in 0..4000 {
+            let wo = sphere(i, 13);
+            let s = bsdf_sample(&m, n, wo, u2(i, 14), i % 2 == 0);
+            let g = n.facing(wo);
+            if !(g.geometric.dot(wo) > 0.0 && g.shading.dot(wo) > 0.0) {
+                assert_eq!(s.pdf, 0.0, "wo below the shading hemisphere samples nothing");
+                continue;
+            }
+            if !(s.pdf > 0.0) {
+                continue;
+            }
+            found += 1;
+            assert_eq!(g.geometric.dot(s.wi) > 0.0, g.shading.dot(s.wi) > 0.0, "{m:?}: {wo} → {}", s.wi);
+            if !s.delta {
+                let (f, pdf) = (bsdf_eval(&m, n, wo, s.wi, i % 2 == 0), bsdf_pdf(&m, n, wo, s.wi));
+                assert!((s.f - f).abs().max_element() <= 1e-4 * f.max_element().max(1e-3), "{} {f}", s.f);
+                assert!((s.pdf - pdf).abs() <= 1e-4 * pdf.max(1e-3), "{} {pdf}", s.pdf);
+            }
+        }
+        assert!(found > 1000, "{m:?}: {found} samples");
     }
 }

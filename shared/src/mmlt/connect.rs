@@ -8,13 +8,14 @@ use spirv_std::num_traits::Float;
 use core::f32::consts::PI;
 use glam::Vec3;
 
-use crate::bsdf::{bsdf_eval, bsdf_pdf, Material};
+use crate::bsdf::{bsdf_eval, bsdf_pdf, Material, Normals};
 use crate::camera::Camera;
 use crate::layout::soa_index;
 use crate::light::{emitted, is_environment, is_punctual, punctual_index};
+use crate::normals::scattering_cosine;
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
-use crate::surface::material_at;
+use crate::surface::{material_at, normals_at};
 
 use crate::light::sample_light;
 use crate::params::RenderParams;
@@ -23,8 +24,8 @@ use crate::ray_caster::spawn;
 use super::*;
 
 /// The density of `from` (with predecessor `before`, or a light origin when `from` is a
-/// light endpoint; `material` its material where it is a surface vertex) generating `to`, as
-/// an area density at `to`.
+/// light endpoint; `material` and `normals` its own where it is a surface vertex) generating
+/// `to`, as an area density at `to`.
 #[inline]
 fn vertex_pdf<R: RayCaster>(
     scene: Scene<R>,
@@ -32,6 +33,7 @@ fn vertex_pdf<R: RayCaster>(
     before: Vec3,
     from: &PathVertex,
     material: &Material,
+    normals: Normals,
     to: &PathVertex,
 ) -> f32 {
     let p = from.position();
@@ -56,7 +58,7 @@ fn vertex_pdf<R: RayCaster>(
     } else if from.kind == KIND_LIGHT {
         from.normal().dot(w).max(0.0) / PI
     } else {
-        bsdf_pdf(material, from.normal(), (before - p).normalize_or_zero(), w)
+        bsdf_pdf(material, normals, (before - p).normalize_or_zero(), w)
     };
     if infinite {
         return pdf_dir;
@@ -64,15 +66,16 @@ fn vertex_pdf<R: RayCaster>(
     convert_density(pdf_dir, p, to.position(), to.normal(), to.kind != KIND_CAMERA)
 }
 
-/// The material at a surface vertex (`crate::surface`: its textures at the vertex's position);
-/// a default one for any other vertex. Looked up once a vertex in the stage (each lookup is a
-/// copy of the texture code in the device module).
+/// The material and normals at a surface vertex (`crate::surface`: its textures and shading
+/// normal at the vertex's position); a default material and the vertex's normal for any other
+/// vertex. Looked up once a vertex in the stage (each lookup is a copy of the texture code in
+/// the device module).
 #[inline]
-fn surface_material<R: RayCaster>(scene: Scene<R>, v: &PathVertex) -> Material {
+fn surface_at<R: RayCaster>(scene: Scene<R>, v: &PathVertex) -> (Material, Normals) {
     if v.kind == KIND_SURFACE {
-        material_at(&scene, v.triangle, v.position())
+        (material_at(&scene, v.triangle, v.position()), normals_at(&scene, v.triangle, v.position()))
     } else {
-        Material::default()
+        (Material::default(), Normals::flat(v.normal()))
     }
 }
 
@@ -139,9 +142,12 @@ pub fn connect_candidate<R: RayCaster>(
     let pt_minus = if t >= 2 { at(0, t - 2) } else { zero };
     let mut qs = if s >= 2 { at(1, s - 1) } else { zero };
     let qs_minus = if s >= 2 { at(1, s - 2) } else { zero };
-    // The materials at the two end points (s = 1 resamples qs on a light, which has none).
-    let mat_pt = surface_material(scene, &pt);
-    let mat_qs = surface_material(scene, &qs);
+    // The materials and normals at the two end points (s = 1 resamples qs on a light, which
+    // has none).
+    let surface_pt = surface_at(scene, &pt);
+    let surface_qs = surface_at(scene, &qs);
+    let (mat_pt, n_pt) = surface_pt;
+    let (mat_qs, n_qs) = surface_qs;
     let mut l = Vec3::ZERO;
     // The pick probability of the light resampled for s = 1.
     let mut pick = 0.0f32;
@@ -185,16 +191,14 @@ pub fn connect_candidate<R: RayCaster>(
             let r = cam.raster(-w);
             if r.inside && dist2 > 0.0 {
                 pixel = cam.pixel(r.x, r.y);
-                let f = if s == 1 {
-                    if qs.normal().dot(w) > 0.0 {
-                        Vec3::ONE
-                    } else {
-                        Vec3::ZERO
-                    }
+                let wo = (qs_minus.position() - qp).normalize_or_zero();
+                let (f, cos_q) = if s == 1 {
+                    (if qs.normal().dot(w) > 0.0 { Vec3::ONE } else { Vec3::ZERO }, qs.normal().dot(w).abs())
                 } else {
-                    bsdf_eval(&mat_qs, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), w, false)
+                    // The light subpath's end scatters importance: the adjoint's cosine.
+                    (bsdf_eval(&mat_qs, n_qs, wo, w, false), scattering_cosine(n_qs, wo, w, false))
                 };
-                let g = qs.normal().dot(w).abs() * r.cos_theta / dist2;
+                let g = cos_q * r.cos_theta / dist2;
                 l = qs.throughput() * f * (cam.importance(-w) * g);
             }
             pt = PathVertex {
@@ -210,20 +214,23 @@ pub fn connect_candidate<R: RayCaster>(
             // The light's end of the connection: far along the direction (where the shadow ray
             // ends).
             qs.p = scene.environment.beyond(pp, wi).to_array();
-            let f_pt =
-                bsdf_eval(&mat_pt, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), wi, true);
+            let wo = (pt_minus.position() - pp).normalize_or_zero();
+            let f_pt = bsdf_eval(&mat_pt, n_pt, wo, wi, true);
             // qs.beta = L / (pick · p_ω).
-            l = pt.throughput() * f_pt * qs.throughput() * pt.normal().dot(wi).abs();
+            l = pt.throughput() * f_pt * qs.throughput() * scattering_cosine(n_pt, wo, wi, true);
         } else if pt.kind == KIND_SURFACE && punctual_light {
             let pp = pt.position();
             let inc = scene.punctual[punctual_index(qs.triangle) as usize].incident(pp);
             // The light's end of the connection: its position, or far along a directional
             // light's direction (where the shadow ray ends and the reverse densities look from).
             qs.p = inc.from.to_array();
-            let f_pt =
-                bsdf_eval(&mat_pt, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), inc.wi, true);
+            let wo = (pt_minus.position() - pp).normalize_or_zero();
+            let f_pt = bsdf_eval(&mat_pt, n_pt, wo, inc.wi, true);
             if pick > 0.0 {
-                l = pt.throughput() * f_pt * inc.radiance * (pt.normal().dot(inc.wi).abs() / pick);
+                l = pt.throughput()
+                    * f_pt
+                    * inc.radiance
+                    * (scattering_cosine(n_pt, wo, inc.wi, true) / pick);
             }
         } else if pt.kind == KIND_SURFACE {
             let pp = pt.position();
@@ -231,18 +238,16 @@ pub fn connect_candidate<R: RayCaster>(
             let dist2 = to_q.length_squared();
             if dist2 > 0.0 {
                 let w = to_q / dist2.sqrt();
-                let f_pt =
-                    bsdf_eval(&mat_pt, pt.normal(), (pt_minus.position() - pp).normalize_or_zero(), w, true);
-                let f_qs = if s == 1 {
-                    if qs.normal().dot(-w) > 0.0 {
-                        Vec3::ONE
-                    } else {
-                        Vec3::ZERO
-                    }
+                let wo_p = (pt_minus.position() - pp).normalize_or_zero();
+                let f_pt = bsdf_eval(&mat_pt, n_pt, wo_p, w, true);
+                let (f_qs, cos_q) = if s == 1 {
+                    (if qs.normal().dot(-w) > 0.0 { Vec3::ONE } else { Vec3::ZERO }, qs.normal().dot(w).abs())
                 } else {
-                    bsdf_eval(&mat_qs, qs.normal(), (qs_minus.position() - qp).normalize_or_zero(), -w, false)
+                    // The light subpath's end scatters importance: the adjoint's cosine.
+                    let wo_q = (qs_minus.position() - qp).normalize_or_zero();
+                    (bsdf_eval(&mat_qs, n_qs, wo_q, -w, false), scattering_cosine(n_qs, wo_q, -w, false))
                 };
-                let g = pt.normal().dot(w).abs() * qs.normal().dot(w).abs() / dist2;
+                let g = scattering_cosine(n_pt, wo_p, w, true) * cos_q / dist2;
                 l = pt.throughput() * f_pt * f_qs * qs.throughput() * g;
             }
         }
@@ -265,7 +270,7 @@ pub fn connect_candidate<R: RayCaster>(
     if !(l.max_element() > 0.0) && !l.is_nan() {
         return Connection { contribution: Vec3::ZERO, pixel, mis_weight: 0.0 };
     }
-    let ends = [(pt, mat_pt), (qs, mat_qs)];
+    let ends = [(pt, surface_pt), (qs, surface_qs)];
     let w = mis_weight(params, scene, samples, vertices, s, t, ends, &pt_minus, &qs_minus);
     Connection { contribution: l * (w * (info.depth + 2) as f32), pixel, mis_weight: w }
 }
@@ -280,35 +285,36 @@ fn mis_weight<R: RayCaster>(
     vertices: &[PathVertex],
     s: u32,
     t: u32,
-    ends: [(PathVertex, Material); 2],
+    ends: [(PathVertex, (Material, Normals)); 2],
     pt_minus: &PathVertex,
     qs_minus: &PathVertex,
 ) -> f32 {
     let max_depth = params.max_depth;
     let cam = params.camera;
-    // The connection's end points and their materials.
-    let [(pt, mat_pt), (qs, mat_qs)] = ends;
+    // The connection's end points and their materials and normals (each a local of its own:
+    // a reference into a tuple is a pointer rust-gpu cannot pass to `bsdf_pdf`).
+    let [(pt, (mat_pt, n_pt)), (qs, (mat_qs, n_qs))] = ends;
     let (pt, qs, mat_pt, mat_qs) = (&pt, &qs, &mat_pt, &mat_qs);
     // Reverse densities that the connection changes.
     let pt_rev = if s > 0 {
-        vertex_pdf(scene, &cam, qs_minus.position(), qs, mat_qs, pt)
+        vertex_pdf(scene, &cam, qs_minus.position(), qs, mat_qs, n_qs, pt)
     } else {
         light_origin_pdf(scene, pt)
     };
     let pt_minus_rev = if t >= 2 {
         if s > 0 {
-            vertex_pdf(scene, &cam, qs.position(), pt, mat_pt, pt_minus)
+            vertex_pdf(scene, &cam, qs.position(), pt, mat_pt, n_pt, pt_minus)
         } else {
             // pt lies on a light: its density of emitting towards pt−.
             let as_light = PathVertex { kind: KIND_LIGHT, ..*pt };
-            vertex_pdf(scene, &cam, Vec3::ZERO, &as_light, mat_pt, pt_minus)
+            vertex_pdf(scene, &cam, Vec3::ZERO, &as_light, mat_pt, n_pt, pt_minus)
         }
     } else {
         0.0
     };
-    let qs_rev = if s > 0 { vertex_pdf(scene, &cam, pt_minus.position(), pt, mat_pt, qs) } else { 0.0 };
+    let qs_rev = if s > 0 { vertex_pdf(scene, &cam, pt_minus.position(), pt, mat_pt, n_pt, qs) } else { 0.0 };
     let qs_minus_rev =
-        if s >= 2 { vertex_pdf(scene, &cam, pt.position(), qs, mat_qs, qs_minus) } else { 0.0 };
+        if s >= 2 { vertex_pdf(scene, &cam, pt.position(), qs, mat_qs, n_qs, qs_minus) } else { 0.0 };
     // A path that starts on a punctual light has no s = 0 technique (no ray hits a delta).
     let light_origin = if s == 1 {
         qs.triangle

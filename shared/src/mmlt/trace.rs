@@ -7,9 +7,10 @@ use glam::{Vec2, Vec3};
 use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere, medium_coefficient, transmittance};
 use crate::layout::soa_index;
 use crate::light::{is_environment, is_punctual, punctual_index, sample_light, LightPoint, ENVIRONMENT};
+use crate::normals::scattering_cosine;
 use crate::ray_caster::RayCaster;
 use crate::scene::Scene;
-use crate::surface::material_at;
+use crate::surface::{material_at, normals_at};
 
 use crate::params::RenderParams;
 use crate::ray_caster::spawn;
@@ -130,14 +131,23 @@ fn random_walk<R: RayCaster>(
             break;
         }
         let m = material_at(&scene, hit.triangle, p);
+        let normals = normals_at(&scene, hit.triangle, p);
         let wo = -d;
         let bounce = count - 2;
-        let bs =
-            bsdf_sample(&m, n, wo, samples.get2(u, bounce_dimension(side, bounce, max_depth)), side == 0);
+        let radiance = side == 0;
+        let bs = bsdf_sample(
+            &m,
+            normals,
+            wo,
+            samples.get2(u, bounce_dimension(side, bounce, max_depth)),
+            radiance,
+        );
         if !(bs.pdf > 0.0) {
             break;
         }
-        beta *= bs.f * (bs.wi.dot(n).abs() / bs.pdf);
+        // The camera subpath carries radiance, the light subpath importance (the adjoint's
+        // cosine, `crate::normals`).
+        beta *= bs.f * (scattering_cosine(normals, wo, bs.wi, radiance) / bs.pdf);
         // A delta lobe: no other technique generates its neighbours through it (their
         // densities from it are 0, remapped in the weights as pbrt-v4's BDPT does).
         if bs.delta {
@@ -146,7 +156,7 @@ fn random_walk<R: RayCaster>(
         }
         // The density of the reverse walk arriving at the predecessor (at the environment, in
         // solid angle).
-        let pdf_back = if bs.delta { 0.0 } else { bsdf_pdf(&m, n, bs.wi, wo) };
+        let pdf_back = if bs.delta { 0.0 } else { bsdf_pdf(&m, normals, bs.wi, wo) };
         prev.pdf_rev = if is_at_infinity(&prev) {
             pdf_back
         } else {

@@ -3,6 +3,7 @@
 use super::*;
 use crate::environment::{Environment, NONE as NO_ENVIRONMENT};
 use crate::light::LightEntry;
+use crate::normals::{Normals, TriangleNormals};
 use crate::punctual::{PunctualLight, NONE as NO_PUNCTUAL};
 use crate::texture::{srgb_to_linear, texture_transform, Texture, WRAP_CLAMP, WRAP_REPEAT};
 use glam::Vec2;
@@ -19,6 +20,7 @@ struct Fixture {
     textures: Vec<Texture>,
     texels: Vec<u32>,
     texcoords: Vec<TriangleTexcoords>,
+    normals: Vec<TriangleNormals>,
     lights: [LightEntry; 1],
     punctual: [PunctualLight; 1],
     environment: Environment,
@@ -38,6 +40,7 @@ impl Fixture {
             textures: &self.textures,
             texels: &self.texels,
             texcoords: &self.texcoords,
+            normals: &self.normals,
         }
     }
 }
@@ -122,6 +125,7 @@ fn fixture() -> Fixture {
             2
         ],
         lights: [LightEntry { light: 0, cdf: 1.0 }],
+        normals: vec![TriangleNormals::default()],
         punctual: [NO_PUNCTUAL],
         environment: NO_ENVIRONMENT,
     }
@@ -179,4 +183,26 @@ fn textures_multiply_their_factors_at_the_points_coordinates() {
     // Light sampling's barycentric lookup agrees with the positional one.
     let b = Vec2::new(1.0 - 0.7 - 0.1, 0.7);
     assert_eq!(material_at_barycentrics(&scene, 0, b).albedo, m.albedo);
+}
+
+#[test]
+fn shading_normals_interpolate_the_vertex_normals_at_the_point() {
+    let mut f = fixture();
+    // Triangle 0 (v0 origin, v1 +x, v2 +y; geometric normal +z) with normals bent towards
+    // each vertex's outside; triangle 1 flat (no entry).
+    let s = 0.6f32.sqrt();
+    let (n0, n1, n2) = (Vec3::new(-s, -s, 0.5).normalize(), Vec3::new(s, 0.0, 0.8), Vec3::new(0.0, s, 0.8));
+    f.normals = vec![TriangleNormals {
+        n: [n0.to_array(), n1.to_array(), n2.to_array()].concat().try_into().unwrap(),
+    }];
+    let scene = f.scene();
+    let at_v1 = normals_at(&scene, 0, Vec3::X);
+    assert_eq!(at_v1.geometric, Vec3::Z);
+    assert!((at_v1.shading - n1.normalize()).length() < 1e-6, "{}", at_v1.shading);
+    // At (0.25, 0.25): barycentrics (0.5, 0.25, 0.25) of v0, v1, v2.
+    let want = (n0 * 0.5 + n1 * 0.25 + n2 * 0.25).normalize();
+    let mid = normals_at(&scene, 0, Vec3::new(0.25, 0.25, 0.0));
+    assert!((mid.shading - want).length() < 1e-6, "{} against {want}", mid.shading);
+    // A triangle beyond the normals is flat.
+    assert_eq!(normals_at(&scene, 1, Vec3::new(0.2, 0.2, 0.0)), Normals::flat(Vec3::Z));
 }
