@@ -6,7 +6,8 @@ use std::path::PathBuf;
 /// `smlt scene`'s flags.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Scene name: cornell, atrium, nave, sunblind, slit, lamps, caustic, materials, or sponza-banner (with --from).
+    /// Scene name: cornell, atrium, nave, sunblind, slit, lamps, caustic, materials, textured,
+    /// smooth, or sponza-banner (with --from).
     pub name: String,
     /// Output .gltf path.
     #[arg(long)]

@@ -12,6 +12,7 @@ use shared::cwbvh::WideNode;
 use shared::environment::Environment;
 use shared::light::LightEntry;
 use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex};
+use shared::normals::TriangleNormals;
 use shared::params::{RenderParams, ESTIMATOR_PATH};
 use shared::punctual::PunctualLight;
 use shared::surface::{MaterialTextures, TriangleTexcoords};
@@ -197,6 +198,8 @@ pub struct SceneBuffers<S: Storage> {
     pub texels: S::Of<u32>,
     /// Per triangle where a material has textures (at least one entry).
     pub texcoords: S::Of<TriangleTexcoords>,
+    /// Per triangle where a mesh has smooth normals (at least one entry).
+    pub normals: S::Of<TriangleNormals>,
 }
 
 impl<S: Storage> SceneBuffers<S> {
@@ -214,6 +217,7 @@ impl<S: Storage> SceneBuffers<S> {
             textures: s.copy_of("textures", "textures", &scene.textures),
             texels: s.copy_of("texels", "texels", &scene.texels),
             texcoords: s.copy_of("texcoords", "texture coordinates", &scene.texcoords),
+            normals: s.copy_of("normals", "vertex normals", &scene.normals),
         }
     }
 

@@ -3,14 +3,17 @@
 //!
 //! What is read, and nothing more (model only what a scene needs):
 //! - triangle meshes (primitive mode TRIANGLES; any other mode is an error) with node
-//!   transforms, matrix or TRS, of the default scene (or the first);
+//!   transforms, matrix or TRS, of the default scene (or the first), and their vertex normals
+//!   (`NORMAL`, the shading normals: `shared::normals`; without them a mesh is flat, as the
+//!   spec says);
 //! - materials: glTF's metallic-roughness BRDF (`baseColorFactor`, `metallicFactor`,
 //!   `roughnessFactor`, `KHR_materials_specular`, `KHR_materials_ior`), glass
 //!   (`KHR_materials_transmission`, `_volume`); `emissiveFactor` ×
 //!   `KHR_materials_emissive_strength` → emission (one-sided, along the triangle's
 //!   counter-clockwise normal); the Phong exponent from the material's extras, key
-//!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF). Textures and other material extensions
-//!   change the image but are not modelled: each is named in a printed warning;
+//!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness and
+//!   emissive textures (`textures`). Other material extensions and textures change the image
+//!   but are not modelled: each is named in a printed warning;
 //! - punctual lights (`KHR_lights_punctual`: point, spot, directional) on their nodes, in
 //!   Blender's units (`lights`);
 //! - perspective cameras, in the order of a depth-first walk of the scene: view 1 is the first
@@ -43,6 +46,7 @@ use shared::color::luminance;
 use shared::cwbvh::{WideBvh, WideNode, WIDE_BVH_STACK_SIZE};
 use shared::environment::{Environment, EnvironmentMap};
 use shared::light::{light_cdf, LightEntry, ENVIRONMENT, PUNCTUAL};
+use shared::normals::TriangleNormals;
 use shared::punctual::PunctualLight;
 use shared::scene::Scene;
 use shared::surface::{MaterialTextures, TriangleTexcoords};
@@ -163,6 +167,9 @@ pub struct SceneData {
     /// Per triangle in `triangles`' order where any material has textures; one zeroed entry
     /// otherwise.
     pub texcoords: Vec<TriangleTexcoords>,
+    /// Per triangle in `triangles`' order where any triangle has smooth normals; one zeroed
+    /// (flat) entry otherwise.
+    pub normals: Vec<TriangleNormals>,
     /// The camera of the selected view.
     pub camera: CameraSpec,
     /// Every perspective camera of the file, in scene order (views 1, 2, …).
@@ -191,6 +198,9 @@ pub struct TriangleSoup {
     /// Texture coordinates of each triangle (zeros where its material has no textures; empty:
     /// none anywhere).
     pub texcoords: Vec<TriangleTexcoords>,
+    /// Vertex normals of each triangle, up to the last smooth one (zeros where it is flat;
+    /// empty: none anywhere).
+    pub normals: Vec<TriangleNormals>,
     /// The file's punctual lights in world space (a directional light's centre and radius are
     /// set from the scene's bounds when the scene is built).
     pub punctual: Vec<PunctualLight>,
@@ -243,6 +253,7 @@ impl SceneData {
             textures: &self.textures,
             texels: &self.texels,
             texcoords: &self.texcoords,
+            normals: &self.normals,
         }
     }
 
@@ -295,20 +306,24 @@ impl SceneData {
         }
     }
 
-    /// What the scene holds, in words for the render summary: its triangles and, where it has
-    /// any, its textures and the memory of their texels.
+    /// What the scene holds, in words for the render summary: its triangles (how many are
+    /// smooth) and, where it has any, its textures and the memory of their texels.
     pub fn describe_contents(&self) -> String {
-        let textures = self.material_textures.len().saturating_sub(1);
-        if textures == 0 {
-            return format!("{} triangles", self.triangles.len());
+        let smooth = self.normals.iter().filter(|n| **n != TriangleNormals::default()).count();
+        let mut text = format!("{} triangles", self.triangles.len());
+        if smooth > 0 {
+            text += &format!(" ({smooth} with smooth normals)");
         }
-        format!(
-            "{} triangles, {} textured material(s) reading {} texture(s) ({:.1} MiB of texels)",
-            self.triangles.len(),
-            textures,
-            self.textures.len(),
-            (self.texels.len() * 4) as f64 / 1048576.0
-        )
+        let textures = self.material_textures.len().saturating_sub(1);
+        if textures > 0 {
+            text += &format!(
+                ", {} textured material(s) reading {} texture(s) ({:.1} MiB of texels)",
+                textures,
+                self.textures.len(),
+                (self.texels.len() * 4) as f64 / 1048576.0
+            );
+        }
+        text
     }
 
     /// Ray-origin offset relative to the scene's size.
@@ -414,6 +429,17 @@ impl SceneData {
         } else {
             vec![TriangleTexcoords::default()]
         };
+        // Vertex normals likewise, where any triangle is smooth.
+        let smooth = soup.normals.iter().any(|n| *n != TriangleNormals::default());
+        let normals = if smooth {
+            // The loader stores normals up to the last smooth triangle: the rest are flat.
+            bvh.primitive_indices
+                .iter()
+                .map(|&i| soup.normals.get(i as usize).copied().unwrap_or_default())
+                .collect()
+        } else {
+            vec![TriangleNormals::default()]
+        };
         let mut material_textures = soup.material_textures;
         if material_textures.is_empty() {
             material_textures.push(MaterialTextures::default());
@@ -435,6 +461,7 @@ impl SceneData {
             textures,
             texels,
             texcoords,
+            normals,
             camera,
             views: soup.cameras,
             bounds: (lo, hi),

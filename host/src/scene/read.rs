@@ -6,6 +6,7 @@ use std::path::Path;
 use glam::{Mat4, Vec3, Vec4Swizzles};
 use shared::bsdf::Material;
 use shared::environment::EnvironmentMap;
+use shared::normals::TriangleNormals;
 use shared::surface::{MaterialTextures, TriangleTexcoords};
 use shared::texture::TextureRef;
 
@@ -554,6 +555,7 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                 };
                 let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
                 let texcoords = read_texcoords(&reader, &prim, &soup, material, &at, positions.len(), name)?;
+                let normals = read_normals(&reader, &prim, world, &at, positions.len(), name)?;
                 let (triples, rest) = indices.as_chunks::<3>();
                 if !rest.is_empty() {
                     soup.warnings.push(format!(
@@ -580,6 +582,17 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                     }
                     soup.triangles.push(v);
                     soup.material_of.push(material);
+                    if let Some(normals) = &normals {
+                        // Only a triangle whose normals bend is stored (the rest are flat).
+                        let ng = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero();
+                        let ns = corners.map(|i| normals[i as usize]);
+                        if ns.iter().any(|n| !(n.dot(ng) > 1.0 - 1e-6)) {
+                            soup.normals.resize(soup.triangles.len() - 1, TriangleNormals::default());
+                            let n = [ns[0].to_array(), ns[1].to_array(), ns[2].to_array()];
+                            soup.normals
+                                .push(TriangleNormals { n: *n.as_flattened().as_array().expect("nine") });
+                        }
+                    }
                     if let Some(sets) = &texcoords {
                         let mut uv = [0.0f32; 12];
                         for (set, coords) in sets.iter().enumerate() {
@@ -599,6 +612,49 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
         stack.extend(children.into_iter().rev());
     }
     Ok(soup)
+}
+
+/// A primitive's vertex normals in world space (unit), or None where it has none (the mesh is
+/// flat, as the spec says) or its transform has no inverse (its triangles are degenerate).
+/// Normals transform by the inverse transpose of the node's matrix.
+fn read_normals<'a, 's, F>(
+    reader: &gltf::mesh::Reader<'a, 's, F>,
+    prim: &gltf::Primitive,
+    world: Mat4,
+    at: &str,
+    vertices: usize,
+    name: &str,
+) -> Result<Option<Vec<Vec3>>, SceneError>
+where
+    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+{
+    let Some(accessor) = prim.get(&gltf::Semantic::Normals) else {
+        return Ok(None);
+    };
+    let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}: {what}") };
+    let local: Vec<[f32; 3]> = match reader.read_normals() {
+        Some(n) => n.collect(),
+        // No view and no sparse values: zeros, which no normal can be.
+        None if accessor.view().is_none() => vec![[0.0; 3]; accessor.count()],
+        None => return Err(malformed("its NORMAL accessor cannot be read".into())),
+    };
+    if local.len() < vertices {
+        return Err(malformed(format!("NORMAL has {} values for {vertices} vertices", local.len())));
+    }
+    let matrix = glam::Mat3::from_mat4(world).inverse().transpose();
+    if !matrix.is_finite() {
+        return Ok(None);
+    }
+    let mut normals = Vec::with_capacity(local.len());
+    for (i, n) in local.iter().enumerate() {
+        let n = Vec3::from_array(*n);
+        // The spec asks for unit normals; a slightly longer or shorter one is normalised.
+        if !(n.is_finite() && n.length() > 0.5) {
+            return Err(malformed(format!("NORMAL {i} is not a unit vector: {n}")));
+        }
+        normals.push((matrix * n).normalize_or_zero());
+    }
+    Ok(Some(normals))
 }
 
 /// The texture coordinates a primitive's textured material reads (`TEXCOORD_0` and, where a

@@ -8,6 +8,7 @@ pub mod lamps;
 pub mod materials;
 pub mod nave;
 pub mod slit;
+pub mod smooth;
 pub mod sponza_banner;
 pub mod sunblind;
 pub mod textured;
@@ -52,8 +53,8 @@ pub fn sun_below_sky(far: Vec3, half: f32, target: Vec3, y: f32) -> [Vec3; 4] {
 }
 
 /// The names of the generated scenes.
-pub const GENERATED: [&str; 9] =
-    ["cornell", "atrium", "nave", "sunblind", "slit", "lamps", "caustic", "materials", "textured"];
+pub const GENERATED: [&str; 10] =
+    ["cornell", "atrium", "nave", "sunblind", "slit", "lamps", "caustic", "materials", "textured", "smooth"];
 
 /// The embedded default scene (what `smlt scene cornell` writes).
 pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/cornell.gltf");
@@ -118,6 +119,7 @@ pub fn generate(name: &str, tessellation: u32) -> Option<String> {
         "caustic" => Some(caustic::caustic(tessellation)),
         "materials" => Some(materials::materials(tessellation)),
         "textured" => Some(textured::textured(tessellation)),
+        "smooth" => Some(smooth::smooth(tessellation)),
         _ => None,
     }
 }
@@ -128,6 +130,9 @@ pub struct GltfBuilder {
     materials: Vec<Value>,
     /// Per material: triangle vertices (three per triangle).
     geometry: Vec<Vec<[f32; 3]>>,
+    /// Per material where it has smooth triangles: a vertex normal for each of `geometry`'s
+    /// vertices so far, zeros for a flat triangle's (written as its geometric normal).
+    normals: Vec<Vec<[f32; 3]>>,
     cameras: Vec<(Vec3, Vec3, Vec3, f32)>,
     /// `KHR_lights_punctual` lights: the light's JSON, its position and the direction it
     /// shines along (its node's −Z).
@@ -148,6 +153,30 @@ pub struct Planar {
     pub u: Vec3,
     #[allow(missing_docs)]
     pub v: Vec3,
+}
+
+/// The vertices of a sphere's triangles (three each, counter-clockwise seen from outside):
+/// `rings` latitude bands and twice as many longitude segments, the poles' degenerate halves
+/// left out.
+fn sphere_vertices(centre: Vec3, radius: f32, rings: u32) -> Vec<Vec3> {
+    let point = |i: u32, j: u32| {
+        let theta = std::f32::consts::PI * i as f32 / rings as f32;
+        let phi = std::f32::consts::PI * j as f32 / rings as f32;
+        centre + radius * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin())
+    };
+    let mut vertices = Vec::new();
+    for i in 0..rings {
+        for j in 0..2 * rings {
+            let (a, b, c, d) = (point(i, j), point(i + 1, j), point(i + 1, j + 1), point(i, j + 1));
+            if i > 0 {
+                vertices.extend([a, d, c]);
+            }
+            if i + 1 < rings {
+                vertices.extend([a, c, b]);
+            }
+        }
+    }
+    vertices
 }
 
 /// A PNG of `width` × `height` RGBA8 texels, `texel(x, y)` from the top-left.
@@ -292,24 +321,33 @@ impl GltfBuilder {
     /// Adds a sphere with outward normals: centre, radius, and `rings` latitude bands (twice
     /// as many longitude segments), flat triangles.
     pub fn sphere(&mut self, material: usize, centre: Vec3, radius: f32, rings: u32) {
-        let point = |i: u32, j: u32| {
-            let theta = std::f32::consts::PI * i as f32 / rings as f32;
-            let phi = std::f32::consts::PI * j as f32 / rings as f32;
-            centre + radius * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin())
-        };
         let g = &mut self.geometry[material];
-        for i in 0..rings {
-            for j in 0..2 * rings {
-                let (a, b, c, d) = (point(i, j), point(i + 1, j), point(i + 1, j + 1), point(i, j + 1));
-                // Counter-clockwise seen from outside; the poles' degenerate halves are left out.
-                if i > 0 {
-                    g.extend([a, d, c].map(|v| v.to_array()));
-                }
-                if i + 1 < rings {
-                    g.extend([a, c, b].map(|v| v.to_array()));
-                }
-            }
+        g.extend(sphere_vertices(centre, radius, rings).iter().map(|v| v.to_array()));
+    }
+
+    /// Adds the same sphere with smooth normals: each vertex's `NORMAL` is the sphere's own
+    /// there, so shading sees a sphere where the geometry is a polyhedron.
+    pub fn smooth_sphere(&mut self, material: usize, centre: Vec3, radius: f32, rings: u32) {
+        if self.normals.len() <= material {
+            self.normals.resize(material + 1, Vec::new());
         }
+        let normals = &mut self.normals[material];
+        normals.resize(self.geometry[material].len(), [0.0; 3]);
+        let vertices = sphere_vertices(centre, radius, rings);
+        normals.extend(vertices.iter().map(|v| ((*v - centre) / radius).normalize().to_array()));
+        self.geometry[material].extend(vertices.iter().map(|v| v.to_array()));
+    }
+
+    /// Adds the quad of [`Self::quad`] with `normal` as every vertex's `NORMAL`: a flat surface
+    /// that shading sees tilted (a test of what shading normals do where the geometry is flat).
+    pub fn bent_quad(&mut self, material: usize, q: [Vec3; 4], normal: Vec3) {
+        if self.normals.len() <= material {
+            self.normals.resize(material + 1, Vec::new());
+        }
+        self.normals[material].resize(self.geometry[material].len(), [0.0; 3]);
+        self.quad(material, q);
+        let n = normal.normalize().to_array();
+        self.normals[material].resize(self.geometry[material].len(), n);
     }
 
     /// Adds a planar quad a, b, c, d (counter-clockwise seen from the side its normal points to),
@@ -434,6 +472,24 @@ impl GltfBuilder {
                     "bufferView": views.len() - 1, "componentType": 5126, "count": tris.len(), "type": "VEC2"
                 }));
                 attributes["TEXCOORD_0"] = json!(accessors.len() - 1);
+            }
+            if let Some(normals) = self.normals.get(m).filter(|n| !n.is_empty()) {
+                let offset = bytes.len();
+                for (i, tri) in tris.chunks(3).enumerate() {
+                    let [a, b, c] = [0, 1, 2].map(|k| Vec3::from_array(tri[k]));
+                    let flat = (b - a).cross(c - a).normalize_or_zero().to_array();
+                    for k in 0..3 {
+                        let n = normals.get(3 * i + k).copied().filter(|n| *n != [0.0; 3]).unwrap_or(flat);
+                        for x in n {
+                            bytes.extend_from_slice(&x.to_le_bytes());
+                        }
+                    }
+                }
+                views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": tris.len() * 12}));
+                accessors.push(json!({
+                    "bufferView": views.len() - 1, "componentType": 5126, "count": tris.len(), "type": "VEC3"
+                }));
+                attributes["NORMAL"] = json!(accessors.len() - 1);
             }
             meshes.push(json!({
                 "name": self.materials[m]["name"],
