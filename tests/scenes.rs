@@ -24,6 +24,8 @@ fn the_committed_scenes_are_what_the_generators_write() {
         ("lamps", include_str!("../scenes/lamps.gltf")),
         ("caustic", include_str!("../scenes/caustic.gltf")),
         ("materials", include_str!("../scenes/materials.gltf")),
+        ("textured", include_str!("../scenes/textured.gltf")),
+        ("smooth", include_str!("../scenes/smooth.gltf")),
     ] {
         assert_eq!(
             text,

@@ -101,6 +101,32 @@ pub fn glass_caustic(area: bool) -> SceneData {
     SceneData::from_slice(doc.to_string().as_bytes(), "glass caustic").expect("glass caustic scene")
 }
 
+/// Shading normals far from the geometry's: a Lambertian floor whose `NORMAL`s all lean 40°
+/// towards +x, before a wall, under an area lamp — light the floor scatters onto the wall is
+/// importance scattered off a bent normal wherever a light subpath carries it, so the
+/// bidirectional methods agree with the path tracer (radiance only) only through Veach's
+/// adjoint cosine. (Coarse smooth spheres bend too little for that: their normals' errors are
+/// second order near normal incidence.)
+#[allow(dead_code)]
+pub fn bent_floor() -> SceneData {
+    let mut b = GltfBuilder::new();
+    let floor = b.material("floor", [0.8; 3], [0.0; 3], 1.0, None);
+    let wall = b.material("wall", [0.5, 0.45, 0.4], [0.0; 3], 1.0, None);
+    let v = Vec3::new;
+    let lean = 40f32.to_radians();
+    b.bent_quad(
+        floor,
+        [v(-2., 0., 2.), v(2., 0., 2.), v(2., 0., -2.), v(-2., 0., -2.)],
+        v(lean.sin(), lean.cos(), 0.0),
+    );
+    b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 2.0, -2.), v(-2., 2.0, -2.)]);
+    let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 8.0, None);
+    let q = [v(-0.4, 1.5, -0.9), v(0.4, 1.5, -0.9), v(0.4, 1.5, -0.1), v(-0.4, 1.5, -0.1)];
+    b.quad(lamp, smlt::scenes::facing(q, -Vec3::Y));
+    b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.6, -1.0), Vec3::Y, 45f32.to_radians());
+    SceneData::from_slice(b.to_json().as_bytes(), "bent floor").expect("bent floor scene")
+}
+
 /// A frosted glass ball (a rough dielectric, roughness `roughness`, α its square) on a floor
 /// before a wall, lit by a point lamp above it: its caustic, light through rough glass onto the
 /// floor, every method renders, the path tracer by light sampling at the glass.
