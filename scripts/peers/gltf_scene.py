@@ -4,8 +4,15 @@ exponent in the material's extras, perspective cameras in depth-first scene orde
 KHR_lights_punctual lights in smlt's units: candela / 683 W/sr, lux / 683 W/m², glass from
 KHR_materials_transmission, _ior and _volume, glTF's metallic-roughness BRDF with KHR_materials_specular,
 textures: baseColorTexture, emissiveTexture and metallicRoughnessTexture with their samplers, texCoord
-and KHR_texture_transform, and the meshes' TEXCOORD_0 and TEXCOORD_1) into plain numpy arrays, for the
-peers' converters.
+and KHR_texture_transform, the meshes' TEXCOORD_0 and TEXCOORD_1, and their NORMALs, the smooth shading
+normals) into plain numpy arrays, for the peers' converters.
+
+Shading normals (glTF 2.0, as smlt reads them from its NORMAL support on): a primitive's NORMAL is a unit vector per vertex,
+interpolated over each triangle (barycentrically) and used as the shading normal; it transforms to
+world space by the inverse transpose of the node's world matrix (normalised after), as a normal must
+under non-uniform and mirroring scales. A primitive without NORMAL is flat: its shading normal is its
+geometric normal, (p1 - p0) x (p2 - p0) of its world-space triangle with glTF's front-face (counter-
+clockwise) winding, corners 1 and 2 already swapped where the world matrix mirrors (as the positions).
 
 Texture semantics (glTF 2.0, as smlt reads them, shared/src/texture.rs): texture coordinates (0, 0)
 are the image's top-left corner, v down; KHR_texture_transform maps them by T · R · S before the
@@ -124,6 +131,10 @@ class Scene:
     materials: list
     triangles: dict = field(default_factory=dict)  # material index -> (n, 3, 3) world-space vertices
     texcoords: dict = field(default_factory=dict)  # material index -> (n, 3, 2, 2): TEXCOORD_0, _1 (0 if none)
+    # material index -> (n, 3, 3) world-space unit shading normals at the triangles' corners, where at
+    # least one of the material's primitives has NORMAL (its flat ones get their geometric normal);
+    # absent where none has
+    normals: dict = field(default_factory=dict)
     cameras: list = field(default_factory=list)
     lights: list = field(default_factory=list)
 
@@ -143,6 +154,14 @@ def _node_matrix(node):
     rot = np.eye(4)
     rot[:3, :3] = r
     return t @ rot @ s
+
+
+def geometric_normals(tris):
+    """The unit geometric normals (n, 3) of world-space triangles (n, 3, 3): glTF's front face,
+    counter-clockwise (0 where a triangle is degenerate)."""
+    n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    return np.divide(n, length, out=np.zeros_like(n), where=length > 0)
 
 
 def texture_transform(offset=(0.0, 0.0), rotation=0.0, scale=(1.0, 1.0), sense="example"):
@@ -276,6 +295,7 @@ def load(path, rotation="example"):
                                   texture(pbr.get("metallicRoughnessTexture")), metallic, roughness,
                                   transmission))
     scene = Scene(materials)
+    shading = {}  # material index -> per primitive: ((k, 3, 3) normals or None (flat), its triangles)
     root = doc["scenes"][doc.get("scene", 0)]
     stack = [(n, np.eye(4)) for n in reversed(root["nodes"])]
     while stack:
@@ -317,15 +337,35 @@ def load(path, rotation="example"):
                         if a["componentType"] != 5126:
                             c /= np.iinfo(COMPONENT[a["componentType"]]).max
                         uv[:, :, :, k] = c[idx.reshape(-1, 3)]
+                normals = None
+                if "NORMAL" in attrs and np.linalg.det(world[:3, :3]) != 0:
+                    # float (core glTF), or normalised signed byte / short (KHR_mesh_quantization);
+                    # to world space by the inverse transpose, normalised after (a singular
+                    # matrix has none, its triangles are degenerate: flat, as smlt)
+                    a = doc["accessors"][attrs["NORMAL"]]
+                    n = accessor(attrs["NORMAL"]).astype(np.float64)
+                    if a["componentType"] != 5126:
+                        n = np.maximum(n / np.iinfo(COMPONENT[a["componentType"]]).max, -1.0)
+                    n = n @ np.linalg.inv(world[:3, :3])  # (M^-T n^T)^T = n M^-1
+                    length = np.linalg.norm(n, axis=1, keepdims=True)
+                    n = np.divide(n, length, out=np.zeros_like(n), where=length > 0)
+                    normals = n[idx.reshape(-1, 3)]
                 if np.linalg.det(world[:3, :3]) < 0:
                     tris = tris[:, [0, 2, 1]]
                     uv = uv[:, [0, 2, 1]]
+                    if normals is not None:
+                        normals = normals[:, [0, 2, 1]]
                 m = prim.get("material", -1) + 1
                 scene.triangles.setdefault(m, []).append(tris)
                 scene.texcoords.setdefault(m, []).append(uv)
+                shading.setdefault(m, []).append((normals, tris))
         stack.extend((c, world) for c in reversed(node.get("children", [])))
     scene.triangles = {m: np.concatenate(t) for m, t in scene.triangles.items()}
     scene.texcoords = {m: np.concatenate(t) for m, t in scene.texcoords.items()}
+    # a material's flat primitives among smooth ones: their geometric normal at each corner
+    scene.normals = {m: np.concatenate([n if n is not None else np.repeat(geometric_normals(t)[:, None], 3, axis=1)
+                                        for n, t in prims])
+                     for m, prims in shading.items() if any(n is not None for n, _ in prims)}
     return scene
 
 

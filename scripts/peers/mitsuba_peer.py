@@ -32,6 +32,12 @@ on an emitter) -> `bitmap` (`texture_dict`: Mitsuba's uv (0, 0) is the image's t
 its `ply` reads u, v unflipped; its texel centres, sRGB decoding, NEAREST and bilinear filters
 are glTF's; its one wrap mode for both axes is met by tiling the image where glTF's two differ;
 an emitter's texture coordinates become its mesh's own, see `mesh_textures`);
+smooth shading normals (glTF's NORMAL, world space from gltf_scene.py) -> the PLY's vertex normals
+`nx`, `ny`, `nz`, loaded with `face_normals` false so that Mitsuba interpolates them as the
+shading frame (a mesh without them keeps `face_normals` true: Mitsuba would otherwise make vertex
+normals of its own); Mitsuba's BSDFs then see the shading frame alone, where smlt's give 0 to a
+direction on which the geometric and the shading normal disagree (no light leaks), so the two
+differ a little near a coarse mesh's silhouettes and terminator (check_normals.sh);
 `--texture-rotation` reads KHR_texture_transform's rotation as smlt and the implementations
 ("example", the default) or as the extension's GLSL listing ("listing"; see gltf_scene.py).
 Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
@@ -191,7 +197,10 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
         reflectance = radiance = None
         if uv is not None:
             uv, reflectance, radiance = mesh_textures(mi, mat, uv, folder)
-        write_ply(path, tris, uv)
+        # smooth shading normals (glTF's NORMAL) as the PLY's vertex normals, which Mitsuba
+        # interpolates (`face_normals` false); a mesh without them stays flat, as before
+        normals = scene.normals.get(m)
+        write_ply(path, tris, uv, normals)
         rgb = reflectance or {"type": "rgb", "value": list(mat.albedo)}
         if mat.phong > 0:
             # mitsuba_phong.py's plugin, registered in main()
@@ -219,7 +228,7 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
                 medium = {"type": "homogeneous", "albedo": 0.0, "scale": top,
                           "sigma_t": {"type": "rgb", "value": [c / top for c in mat.attenuation]}}
                 d["integrator"]["type"] = "volpath"
-        shape = {"type": "ply", "filename": path, "face_normals": True, "bsdf": bsdf}
+        shape = {"type": "ply", "filename": path, "face_normals": normals is None, "bsdf": bsdf}
         if medium is not None:
             shape["interior"] = medium
         if max(mat.emission) > 0:

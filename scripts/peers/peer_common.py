@@ -10,19 +10,25 @@ import numpy as np
 HEADER = "scene,view,method,repeat,seconds,candidates,steps,mutations_per_s,steps_per_s,rmse,relmse,psnr,nan_inf,b,b_rel_se"
 
 
-def write_ply(path, tris, uv=None):
+def write_ply(path, tris, uv=None, normals=None):
     """Binary PLY of flat triangles (n, 3, 3), with texture coordinates uv (n, 3, 2) as the
-    vertices' `u`, `v` where given (Mitsuba's `ply` reads them as they are, no flip)."""
+    vertices' `u`, `v` where given (Mitsuba's `ply` reads them as they are, no flip) and shading
+    normals (n, 3, 3) as the vertices' `nx`, `ny`, `nz` where given (what Mitsuba's `ply`
+    interpolates when loaded with `face_normals` false). Each triangle has its own three
+    vertices, so a corner's normal is the triangle's own: nothing is shared or averaged."""
     verts = tris.reshape(-1, 3).astype("<f4")
+    if normals is not None:
+        verts = np.concatenate([verts, normals.reshape(-1, 3).astype("<f4")], axis=1)
     if uv is not None:
         verts = np.concatenate([verts, uv.reshape(-1, 2).astype("<f4")], axis=1)
     faces = np.arange(len(tris) * 3, dtype="<i4").reshape(-1, 3)
+    shading = "property float nx\nproperty float ny\nproperty float nz\n" if normals is not None else ""
     texcoords = "property float u\nproperty float v\n" if uv is not None else ""
     with open(path, "wb") as f:
         f.write(
             (
                 "ply\nformat binary_little_endian 1.0\n"
-                f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n{texcoords}"
+                f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n{shading}{texcoords}"
                 f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
             ).encode()
         )
