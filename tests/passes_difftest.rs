@@ -455,6 +455,19 @@ fn textured_passes_agree_on_device_and_cpu() {
     }
 }
 
+/// On smooth normals (`scenes/smooth.gltf`: interpolated `NORMAL`s on a white, a gold and a
+/// glass ball; `bent_floor`: normals leaning 40°): the normal store, the shading frame, the
+/// zero where the normals disagree about a side, and the adjoint cosine on light subpaths.
+#[test]
+fn smooth_normal_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("smooth_normal_passes_agree_on_device_and_cpu") {
+        let smooth =
+            SceneData::from_slice(include_bytes!("../scenes/smooth.gltf"), "smooth").expect("smooth");
+        difftest_both_estimators(gpu.clone(), &smooth);
+        difftest_both_estimators(gpu, &common::scenes::bent_floor());
+    }
+}
+
 #[test]
 fn reject_chain_eight_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("reject_chain_eight_passes_agree_on_device_and_cpu") {
@@ -591,7 +604,8 @@ fn every_pass_binds_what_its_kernel_declares() {
 /// The path tracer's pass (`--method pt`, and `smlt reference`): one round of 4 samples a
 /// pixel on the device and on the CPU backend, pixel by pixel, on the default scene, on
 /// Sibenik-like geometry (the nave), under the environment (`sky_scene`), on glTF's BRDF
-/// (`brdf_scene`) and on textures (`textured_scene`): at most 0.5 % of pixel values differ beyond 1e-3 relative
+/// (`brdf_scene`), on textures (`textured_scene`) and on smooth normals (`smooth.gltf`): at most
+/// 0.5 % of pixel values differ beyond 1e-3 relative
 /// (a path that grazes an edge may take the other branch).
 #[test]
 fn the_path_tracer_agrees_on_device_and_cpu() {
@@ -605,6 +619,7 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
         ("sky", common::scenes::sky_scene()),
         ("brdf", common::scenes::brdf_scene(false)),
         ("textured", common::scenes::textured_scene()),
+        ("smooth", SceneData::from_slice(include_bytes!("../scenes/smooth.gltf"), "smooth").expect("smooth")),
     ] {
         let s = Settings {
             width: 24,

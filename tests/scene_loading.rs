@@ -562,3 +562,74 @@ fn textures_load_with_their_samplers_transforms_and_coordinates() {
     assert!((floor_at(-0.3, 0.55)[0] - light).abs() < 1e-5, "REPEAT below 0: {:?}", floor_at(-0.3, 0.55));
     assert!(scene.describe_contents().contains("4 texture(s)"), "{}", scene.describe_contents());
 }
+
+/// A quad whose every `NORMAL` leans towards +x, on a node with transform `node`.
+fn bent_doc(normal: Vec3, node: Value) -> Value {
+    let mut b = GltfBuilder::new();
+    let m = b.pbr("floor", [0.5; 3], 0.0, 1.0);
+    b.bent_quad(
+        m,
+        [Vec3::new(0., 0., 0.), Vec3::new(1., 0., 0.), Vec3::new(1., 1., 0.), Vec3::new(0., 1., 0.)],
+        normal,
+    );
+    b.camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 0.5);
+    b.point_light(Vec3::new(0.5, 0.5, 2.0), [1.0; 3], 10.0);
+    let mut doc: Value = serde_json::from_str(&b.to_json()).unwrap();
+    let mesh_node = doc["nodes"].as_array().unwrap().iter().position(|n| n.get("mesh").is_some()).unwrap();
+    for (k, v) in node.as_object().unwrap() {
+        doc["nodes"][mesh_node][k] = v.clone();
+    }
+    doc
+}
+
+/// Every vertex normal of every triangle of `scene`.
+fn vertex_normals(scene: &SceneData) -> Vec<Vec3> {
+    scene
+        .normals
+        .iter()
+        .flat_map(|t| t.n.chunks(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect::<Vec<_>>())
+        .collect()
+}
+
+/// `NORMAL` follows the node's inverse-transpose (a non-uniform scale bends it, a mirror
+/// turns it), a normal equal to its face's is stored flat, and one that is no unit vector is
+/// refused by name.
+#[test]
+fn normals_follow_the_inverse_transpose_and_bad_ones_are_refused() {
+    use base64::Engine;
+    let lean = Vec3::new(1.0, 0.0, 1.0).normalize();
+    let cases = [
+        (json!({}), lean),
+        (json!({"scale": [2, 1, 1]}), Vec3::new(0.5, 0.0, 1.0).normalize()),
+        (json!({"scale": [-1, 1, 1]}), Vec3::new(-1.0, 0.0, 1.0).normalize()),
+    ];
+    for (node, expected) in cases {
+        let scene = load(&bent_doc(lean, node.clone())).unwrap();
+        assert_eq!(scene.normals.len(), scene.triangles.len(), "{node}: one entry a triangle");
+        for n in vertex_normals(&scene) {
+            assert!((n - expected).length() < 1e-5, "{node}: {n} against {expected}");
+        }
+    }
+    // Normals equal to the face's: no per-triangle store.
+    let flat = load(&bent_doc(Vec3::Z, json!({}))).unwrap();
+    assert!(flat.normals.iter().all(|t| t.n == [0.0; 9]), "a flat mesh stores no normals");
+    // A NORMAL shrunk to a tenth: refused, naming the attribute.
+    let mut doc = bent_doc(lean, json!({}));
+    let normal_accessor =
+        doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"].as_u64().unwrap() as usize;
+    let view =
+        &doc["bufferViews"][doc["accessors"][normal_accessor]["bufferView"].as_u64().unwrap() as usize];
+    let (offset, length) =
+        (view["byteOffset"].as_u64().unwrap_or(0) as usize, view["byteLength"].as_u64().unwrap() as usize);
+    let uri = doc["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let (head, data) = uri.split_once(',').unwrap();
+    let engine = base64::engine::general_purpose::STANDARD;
+    let mut bytes = engine.decode(data).unwrap();
+    for f in bytes[offset..offset + length].chunks_mut(4) {
+        let v = f32::from_le_bytes(f.try_into().unwrap()) * 0.1;
+        f.copy_from_slice(&v.to_le_bytes());
+    }
+    doc["buffers"][0]["uri"] = json!(format!("{head},{}", engine.encode(&bytes)));
+    let err = load(&doc).unwrap_err().to_string();
+    assert!(err.contains("NORMAL 0 is not a unit vector"), "{err}");
+}
