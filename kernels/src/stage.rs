@@ -297,7 +297,18 @@ macro_rules! stage {
             #[spirv(storage_buffer, descriptor_set = 1, binding = 11)] normals: &[shared::normals::TriangleNormals],
         ], [
             scene: shared::scene::Scene {
-                caster: shared::cwbvh::WideBvh { nodes, triangles },
+                caster: shared::cwbvh::WideBvh {
+                    nodes,
+                    triangles,
+                    cutouts: shared::cutout::Cutouts {
+                        triangles,
+                        materials,
+                        material_textures,
+                        texcoords,
+                        textures,
+                        texels,
+                    },
+                },
                 triangles,
                 materials,
                 lights,

@@ -12,10 +12,12 @@
 //! Robustness: the box test uses a safe reciprocal (±1e30 for a zero direction component), so
 //! an axis-parallel ray never computes 0·∞; the quantised boxes enclose the exact ones (obvhs
 //! rounds them outwards); the triangle test is [`intersect_triangle`] with its (tmin, tmax)
-//! interval, both faces, degenerate triangles never hit and NaN never a hit.
+//! interval, both faces, degenerate triangles never hit and NaN never a hit. A hit on a cut-out
+//! triangle counts only where [`Cutouts::stops`] says it stops the ray.
 
 use glam::Vec3;
 
+use crate::cutout::Cutouts;
 use crate::ray_caster::{Hit, RayCaster};
 use crate::triangle::{intersect_triangle, Triangle};
 
@@ -175,6 +177,8 @@ pub struct WideBvh<'a> {
     pub nodes: &'a [WideNode],
     /// The triangles, in the BVH's order.
     pub triangles: &'a [Triangle],
+    /// The cut-outs among them (over the same triangles).
+    pub cutouts: Cutouts<'a>,
 }
 
 impl WideBvh<'_> {
@@ -199,7 +203,7 @@ impl WideBvh<'_> {
                 triangle_mask &= !(1 << bit);
                 let slot = triangle_base + bit;
                 let t = intersect_triangle(&self.triangles[slot as usize], o, d, tmin, t_limit);
-                if t < t_limit {
+                if t < t_limit && self.cutouts.stops(slot, o, d, t) {
                     t_limit = t;
                     best = Hit { t, triangle: slot };
                     if any {
@@ -302,7 +306,7 @@ mod tests {
         let tri =
             Triangle { v0: [0.0, 0.5, 0.0], v1: [1.0, 0.5, 0.0], v2: [0.0, 0.5, 1.0], ..Default::default() };
         let (nodes, tris) = one_leaf(tri);
-        let bvh = WideBvh { nodes: &nodes, triangles: &tris };
+        let bvh = WideBvh { nodes: &nodes, triangles: &tris, cutouts: Cutouts::NONE };
         let (o, down) = (Vec3::new(0.25, 2.0, 0.25), Vec3::NEG_Y);
         assert_eq!(bvh.closest_hit(o, down, 0.0, NO_HIT), Hit { t: 1.5, triangle: 0 });
         assert!(!bvh.closest_hit(o, -down, 0.0, NO_HIT).found());

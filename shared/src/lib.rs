@@ -22,7 +22,8 @@
 //! - [`params`]: what every dispatch of the chains' stages knows;
 //! - [`ray_caster`]: the one seam between the path code and ray casting (and the ray origin
 //!   offset every path code uses), and [`cwbvh`], the
-//!   device's caster (a compressed 8-wide BVH); [`scene`]: what the kernels read of a scene;
+//!   device's caster (a compressed 8-wide BVH), and [`cutout`], the cut-outs (glTF's MASK and
+//!   BLEND) every caster lets rays through; [`scene`]: what the kernels read of a scene;
 //! - [`mmlt`]: Multiplexed MLT path sampling (the trace and connect stages);
 //! - [`path_tracer`]: the path tracer (`pt`, and the ground truth), which shares no path code
 //!   with [`mmlt`];
@@ -35,6 +36,7 @@ pub mod acceptance;
 pub mod bsdf;
 pub mod camera;
 pub mod color;
+pub mod cutout;
 pub mod cwbvh;
 pub mod discrete;
 pub mod distant;

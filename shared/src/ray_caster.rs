@@ -3,7 +3,8 @@
 //! traversed in [`crate::cwbvh`]; the CPU backend through the fastest host traversal (the
 //! host's `caster` module). Every caster answers the same way: hits with t strictly inside
 //! (tmin, tmax), both faces, degenerate triangles never, NaN never — the triangle test is
-//! [`crate::triangle::intersect_triangle`] for all of them.
+//! [`crate::triangle::intersect_triangle`] for all of them — and a cut-out triangle only where
+//! [`crate::cutout::Cutouts::stops`] says it stops the ray.
 
 use glam::Vec3;
 

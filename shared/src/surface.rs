@@ -27,8 +27,9 @@ use crate::scene::Scene;
 use crate::texture::{sample, Texture, TextureRef};
 use crate::triangle::Triangle;
 
-/// The textures of a material and the factors they multiply (uploaded as it is; entry 0 of the
-/// scene's list is never used: [`Material::textures`] 0 means none).
+/// The textures of a material and the factors they multiply, and its cut-out (`crate::cutout`)
+/// (uploaded as it is; entry 0 of the scene's list is never used: [`Material::textures`] 0
+/// means none).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct MaterialTextures {
@@ -44,7 +45,13 @@ pub struct MaterialTextures {
     pub roughness: f32,
     /// `KHR_materials_transmission`'s transmissionFactor.
     pub transmission: f32,
-    /// Padding to 112 bytes.
+    /// glTF's `alphaMode` (`crate::cutout`'s `ALPHA_*`; OPAQUE for a material without one).
+    pub alpha_mode: u32,
+    /// glTF's `alphaCutoff` (MASK).
+    pub alpha_cutoff: f32,
+    /// `baseColorFactor`'s alpha, which the texture's alpha multiplies.
+    pub alpha: f32,
+    /// Padding to 128 bytes.
     pub _pad: f32,
 }
 

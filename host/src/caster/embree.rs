@@ -8,7 +8,11 @@
 //! both faces (Debian builds it without back-face culling); it accepts tnear < t ≤ tfar, so the
 //! interval's end is passed as the largest float below tmax; triangles whose edges' cross
 //! product is exactly zero (which smlt never hits) are left out of its geometry, and its
-//! primitive ids map back to smlt's slots. Its triangle test rounds differently (an
+//! primitive ids map back to smlt's slots. Cut-out triangles (`shared::cutout`) are a second
+//! geometry with intersection and occlusion filter functions that ask
+//! `shared::cutout::Cutouts::stops` (passed in an extended query context, as Embree's
+//! tutorials pass user data), so opaque triangles pay nothing for them. Its triangle test
+//! rounds differently (an
 //! approximate reciprocal), so t may differ from the other casters' in the last bits and a ray
 //! through a shared edge may pick the neighbour: `tests/ray_casters.rs` counts both.
 
@@ -16,10 +20,12 @@ use std::ffi::{c_char, c_void};
 use std::sync::OnceLock;
 
 use glam::Vec3;
+use shared::cutout::Cutouts;
 use shared::ray_caster::{Hit, NO_HIT};
 use shared::triangle::{Triangle, TriangleEdges};
 
 type Handle = *mut c_void;
+type FilterFunction = unsafe extern "C" fn(*const FilterArguments);
 
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Default)]
@@ -59,6 +65,27 @@ struct IntersectContext {
     inst_id: [u32; 1],
 }
 
+/// Embree's context extended with what the cut-out filter reads: Embree hands the filter the
+/// pointer the query was given.
+#[repr(C)]
+struct QueryContext<'a> {
+    embree: IntersectContext,
+    cutouts: &'a Cutouts<'a>,
+    /// smlt's slot of each primitive of the cut-out geometry.
+    slots: &'a [u32],
+}
+
+/// `RTCFilterFunctionNArguments`: the candidate hits of N rays (SoA), and a valid flag each.
+#[repr(C)]
+struct FilterArguments {
+    valid: *mut i32,
+    geometry_user: *mut c_void,
+    context: *const QueryContext<'static>,
+    ray: *mut f32,
+    hit: *mut u32,
+    n: u32,
+}
+
 const INVALID_ID: u32 = u32::MAX;
 const GEOMETRY_TYPE_TRIANGLE: u32 = 0;
 const BUFFER_TYPE_INDEX: u32 = 0;
@@ -77,6 +104,8 @@ struct Api {
     new_geometry_buffer: unsafe extern "C" fn(Handle, u32, u32, u32, usize, usize) -> *mut c_void,
     commit_geometry: unsafe extern "C" fn(Handle),
     attach_geometry: unsafe extern "C" fn(Handle, Handle) -> u32,
+    set_intersect_filter: unsafe extern "C" fn(Handle, Option<FilterFunction>),
+    set_occluded_filter: unsafe extern "C" fn(Handle, Option<FilterFunction>),
     release_geometry: unsafe extern "C" fn(Handle),
     commit_scene: unsafe extern "C" fn(Handle),
     release_scene: unsafe extern "C" fn(Handle),
@@ -108,6 +137,8 @@ impl Api {
                 new_geometry_buffer: entry!("rtcSetNewGeometryBuffer"),
                 commit_geometry: entry!("rtcCommitGeometry"),
                 attach_geometry: entry!("rtcAttachGeometry"),
+                set_intersect_filter: entry!("rtcSetGeometryIntersectFilterFunction"),
+                set_occluded_filter: entry!("rtcSetGeometryOccludedFilterFunction"),
                 release_geometry: entry!("rtcReleaseGeometry"),
                 commit_scene: entry!("rtcCommitScene"),
                 release_scene: entry!("rtcReleaseScene"),
@@ -136,8 +167,9 @@ pub struct EmbreeScene {
     api: &'static Api,
     device: Handle,
     scene: Handle,
-    /// smlt's triangle slot of each Embree primitive.
-    slots: Vec<u32>,
+    /// smlt's triangle slot of each Embree primitive: of the opaque geometry (0), then of the
+    /// cut-out one (1; empty when the scene has none).
+    slots: [Vec<u32>; 2],
 }
 
 // SAFETY: a committed scene is never modified again, and Embree documents concurrent ray
@@ -147,20 +179,22 @@ unsafe impl Sync for EmbreeScene {}
 
 impl std::fmt::Debug for EmbreeScene {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "EmbreeScene({} triangles)", self.slots.len())
+        write!(f, "EmbreeScene({} triangles, {} cut-outs)", self.slots[0].len(), self.slots[1].len())
     }
 }
 
 impl EmbreeScene {
-    /// Builds Embree's BVH over `triangles` (the scene's, in slot order).
-    pub fn new(triangles: &[Triangle]) -> Result<Self, String> {
+    /// Builds Embree's BVH over `triangles` (the scene's, in slot order), those that
+    /// `cutouts` says are cut-outs in a geometry of their own with the cut-out filters.
+    pub fn new(triangles: &[Triangle], cutouts: Cutouts) -> Result<Self, String> {
         let api = Api::get()?;
-        let slots: Vec<u32> = (0..triangles.len() as u32)
-            .filter(|&i| {
-                let e = TriangleEdges::of(&triangles[i as usize]);
-                e.e1.cross(e.e2) != Vec3::ZERO
-            })
-            .collect();
+        let mut slots = [Vec::new(), Vec::new()];
+        for i in 0..triangles.len() as u32 {
+            let e = TriangleEdges::of(&triangles[i as usize]);
+            if e.e1.cross(e.e2) != Vec3::ZERO {
+                slots[cutouts.is_cutout(i) as usize].push(i);
+            }
+        }
         // SAFETY: every call follows Embree 3's API: the buffers Embree allocates are filled
         // with exactly the item counts and strides they were created with before the geometry
         // is committed; every handle is released once.
@@ -171,36 +205,50 @@ impl EmbreeScene {
             }
             let scene = (api.new_scene)(device);
             (api.set_build_quality)(scene, BUILD_QUALITY_HIGH);
-            let geometry = (api.new_geometry)(device, GEOMETRY_TYPE_TRIANGLE);
-            let n = slots.len().max(1);
-            let vertices =
-                (api.new_geometry_buffer)(geometry, BUFFER_TYPE_VERTEX, 0, FORMAT_FLOAT3, 12, n * 3)
-                    as *mut [f32; 3];
-            let indices = (api.new_geometry_buffer)(geometry, BUFFER_TYPE_INDEX, 0, FORMAT_UINT3, 12, n)
-                as *mut [u32; 3];
-            if vertices.is_null() || indices.is_null() {
+            for (id, geometry_slots) in slots.iter().enumerate() {
+                if id == 1 && geometry_slots.is_empty() {
+                    break;
+                }
+                let geometry = (api.new_geometry)(device, GEOMETRY_TYPE_TRIANGLE);
+                let n = geometry_slots.len().max(1);
+                let vertices =
+                    (api.new_geometry_buffer)(geometry, BUFFER_TYPE_VERTEX, 0, FORMAT_FLOAT3, 12, n * 3)
+                        as *mut [f32; 3];
+                let indices = (api.new_geometry_buffer)(geometry, BUFFER_TYPE_INDEX, 0, FORMAT_UINT3, 12, n)
+                    as *mut [u32; 3];
+                if vertices.is_null() || indices.is_null() {
+                    (api.release_geometry)(geometry);
+                    (api.release_scene)(scene);
+                    (api.release_device)(device);
+                    return Err("Embree could not allocate the scene's buffers".into());
+                }
+                for (k, &slot) in geometry_slots.iter().enumerate() {
+                    let t = &triangles[slot as usize];
+                    *vertices.add(3 * k) = t.v0;
+                    *vertices.add(3 * k + 1) = t.v1;
+                    *vertices.add(3 * k + 2) = t.v2;
+                    *indices.add(k) = [3 * k as u32, 3 * k as u32 + 1, 3 * k as u32 + 2];
+                }
+                if geometry_slots.is_empty() {
+                    // One triangle far away that nothing reaches (Embree wants no empty buffers).
+                    *vertices = [f32::MAX; 3];
+                    *vertices.add(1) = [f32::MAX; 3];
+                    *vertices.add(2) = [f32::MAX; 3];
+                    *indices = [0, 1, 2];
+                }
+                if id == 1 {
+                    (api.set_intersect_filter)(geometry, Some(cutout_filter));
+                    (api.set_occluded_filter)(geometry, Some(cutout_filter));
+                }
+                (api.commit_geometry)(geometry);
+                let attached = (api.attach_geometry)(scene, geometry);
                 (api.release_geometry)(geometry);
-                (api.release_scene)(scene);
-                (api.release_device)(device);
-                return Err("Embree could not allocate the scene's buffers".into());
+                if attached != id as u32 {
+                    (api.release_scene)(scene);
+                    (api.release_device)(device);
+                    return Err(format!("Embree numbered geometry {id} as {attached}"));
+                }
             }
-            for (k, &slot) in slots.iter().enumerate() {
-                let t = &triangles[slot as usize];
-                *vertices.add(3 * k) = t.v0;
-                *vertices.add(3 * k + 1) = t.v1;
-                *vertices.add(3 * k + 2) = t.v2;
-                *indices.add(k) = [3 * k as u32, 3 * k as u32 + 1, 3 * k as u32 + 2];
-            }
-            if slots.is_empty() {
-                // One triangle far away that nothing reaches (Embree wants no empty buffers).
-                *vertices = [f32::MAX; 3];
-                *vertices.add(1) = [f32::MAX; 3];
-                *vertices.add(2) = [f32::MAX; 3];
-                *indices = [0, 1, 2];
-            }
-            (api.commit_geometry)(geometry);
-            (api.attach_geometry)(scene, geometry);
-            (api.release_geometry)(geometry);
             (api.commit_scene)(scene);
             let error = (api.device_error)(device);
             if error != 0 {
@@ -210,10 +258,6 @@ impl EmbreeScene {
             }
             Ok(Self { api, device, scene, slots })
         }
-    }
-
-    fn context() -> IntersectContext {
-        IntersectContext { flags: 0, filter: std::ptr::null(), inst_id: [INVALID_ID] }
     }
 
     fn ray(o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Ray {
@@ -235,35 +279,88 @@ impl EmbreeScene {
         const LARGE: f32 = 1e18;
         o.abs().max_element() <= LARGE && d.abs().max_element() <= LARGE && tmin >= 0.0 && tmin < tmax
     }
+}
+
+/// Embree's filter of candidate hits on cut-out triangles: a hit the cut-out does not stop is
+/// made invalid, and Embree traverses on. Embree sets a candidate's distance as its ray's tfar
+/// before it calls the filter (and restores it if the hit is rejected).
+///
+/// # Safety
+/// Called by Embree only, with arguments laid out as `RTCFilterFunctionNArguments` for the
+/// queries of [`EmbreeCaster`], whose context is a [`QueryContext`].
+unsafe extern "C" fn cutout_filter(args: *const FilterArguments) {
+    // SAFETY: Embree's arguments: N rays and hits in SoA layout (RTCRayN, RTCHitN) and a valid
+    // flag each; the context is the query's own (a QueryContext, alive for the query).
+    unsafe {
+        let args = &*args;
+        let context = &*args.context;
+        let n = args.n as usize;
+        let ray = |field: usize, i: usize| *args.ray.add(field * n + i);
+        for i in 0..n {
+            if *args.valid.add(i) == 0 {
+                continue;
+            }
+            let o = Vec3::new(ray(0, i), ray(1, i), ray(2, i));
+            let d = Vec3::new(ray(4, i), ray(5, i), ray(6, i));
+            let t = ray(8, i);
+            let primitive = *args.hit.add(5 * n + i) as usize;
+            let Some(&slot) = context.slots.get(primitive) else { continue };
+            if !context.cutouts.stops(slot, o, d, t) {
+                *args.valid.add(i) = 0;
+            }
+        }
+    }
+}
+
+/// Embree's queries on a scene, with the scene's cut-outs.
+#[derive(Clone, Copy)]
+pub struct EmbreeCaster<'a> {
+    /// The committed scene.
+    pub scene: &'a EmbreeScene,
+    /// The cut-outs its filters ask.
+    pub cutouts: Cutouts<'a>,
+}
+
+impl EmbreeCaster<'_> {
+    fn context<'c>(&'c self) -> QueryContext<'c> {
+        QueryContext {
+            embree: IntersectContext { flags: 0, filter: std::ptr::null(), inst_id: [INVALID_ID] },
+            cutouts: &self.cutouts,
+            slots: &self.scene.slots[1],
+        }
+    }
 
     /// The closest hit in (tmin, tmax).
     #[inline]
     pub fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
-        if !Self::takes(o, d, tmin, tmax) {
+        if !EmbreeScene::takes(o, d, tmin, tmax) {
             return Hit { t: NO_HIT, triangle: 0 };
         }
-        let mut rayhit = RayHit { ray: Self::ray(o, d, tmin, tmax), hit: HitRecord::default() };
+        let mut rayhit = RayHit { ray: EmbreeScene::ray(o, d, tmin, tmax), hit: HitRecord::default() };
         rayhit.hit.geom_id = INVALID_ID;
         rayhit.hit.prim_id = INVALID_ID;
-        let mut context = Self::context();
-        // SAFETY: a committed scene, a context and a ray hit laid out as Embree's.
-        unsafe { (self.api.intersect1)(self.scene, &mut context, &mut rayhit) };
-        if rayhit.hit.geom_id == INVALID_ID {
-            return Hit { t: NO_HIT, triangle: 0 };
+        let mut context = self.context();
+        let scene = self.scene;
+        // SAFETY: a committed scene, a context that begins with Embree's and a ray hit laid out
+        // as Embree's.
+        unsafe { (scene.api.intersect1)(scene.scene, &mut context.embree, &mut rayhit) };
+        match scene.slots.get(rayhit.hit.geom_id as usize) {
+            Some(slots) => Hit { t: rayhit.ray.tfar, triangle: slots[rayhit.hit.prim_id as usize] },
+            None => Hit { t: NO_HIT, triangle: 0 },
         }
-        Hit { t: rayhit.ray.tfar, triangle: self.slots[rayhit.hit.prim_id as usize] }
     }
 
     /// Whether anything blocks the ray in (tmin, tmax).
     #[inline]
     pub fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
-        if !Self::takes(o, d, tmin, tmax) {
+        if !EmbreeScene::takes(o, d, tmin, tmax) {
             return false;
         }
-        let mut ray = Self::ray(o, d, tmin, tmax);
-        let mut context = Self::context();
+        let mut ray = EmbreeScene::ray(o, d, tmin, tmax);
+        let mut context = self.context();
+        let scene = self.scene;
         // SAFETY: as for closest_hit; Embree sets tfar to −∞ when the ray is blocked.
-        unsafe { (self.api.occluded1)(self.scene, &mut context, &mut ray) };
+        unsafe { (scene.api.occluded1)(scene.scene, &mut context.embree, &mut ray) };
         ray.tfar == f32::NEG_INFINITY
     }
 }

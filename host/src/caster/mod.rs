@@ -2,7 +2,7 @@
 //! Intel Embree where its library is installed (the fastest traversal measured here, by
 //! `host/examples/rays.rs`), else obvhs's traversal of the device's own BVH. `SMLT_RAY_CASTER`
 //! (`embree` or `obvhs`) chooses one explicitly. Every caster answers every query as the
-//! others do, ray by ray (`tests/ray_casters.rs`).
+//! others do, ray by ray, cut-outs included (`tests/ray_casters.rs`).
 
 mod embree;
 mod obvhs;
@@ -10,14 +10,14 @@ mod obvhs;
 use glam::Vec3;
 use shared::ray_caster::{Hit, RayCaster};
 
-pub use embree::EmbreeScene;
+pub use embree::{EmbreeCaster, EmbreeScene};
 pub use obvhs::ObvhsCaster;
 
 /// The CPU backend's ray caster for one scene.
 #[derive(Clone, Copy)]
 pub enum HostCaster<'a> {
     /// Intel Embree 3.
-    Embree(&'a EmbreeScene),
+    Embree(EmbreeCaster<'a>),
     /// obvhs's traversal of the compressed wide BVH.
     Obvhs(ObvhsCaster<'a>),
 }

@@ -43,6 +43,7 @@ use obvhs::cwbvh::CwBvh;
 use shared::bsdf::Material;
 use shared::camera::Camera;
 use shared::color::luminance;
+use shared::cutout::Cutouts;
 use shared::cwbvh::{WideBvh, WideNode, WIDE_BVH_STACK_SIZE};
 use shared::environment::{Environment, EnvironmentMap};
 use shared::light::{light_cdf, LightEntry, ENVIRONMENT, PUNCTUAL};
@@ -55,7 +56,7 @@ use shared::triangle::{Triangle, TriangleEdges};
 
 use std::sync::{Arc, OnceLock};
 
-use crate::caster::{EmbreeScene, HostCaster, ObvhsCaster};
+use crate::caster::{EmbreeCaster, EmbreeScene, HostCaster, ObvhsCaster};
 
 /// Why a scene could not be used.
 #[derive(Debug, thiserror::Error)]
@@ -218,25 +219,43 @@ impl SceneData {
     pub fn shared(&self) -> Scene<'_, HostCaster<'_>> {
         let embree = self.embree.get_or_init(|| {
             crate::caster::wants_embree()
-                .then(|| EmbreeScene::new(&self.triangles).ok().map(Arc::new))
+                .then(|| EmbreeScene::new(&self.triangles, self.cutouts()).ok().map(Arc::new))
                 .flatten()
         });
         match embree {
-            Some(e) => self.with_caster(HostCaster::Embree(e)),
+            Some(e) => {
+                self.with_caster(HostCaster::Embree(EmbreeCaster { scene: e, cutouts: self.cutouts() }))
+            }
             None => self.obvhs_view(),
+        }
+    }
+
+    /// The cut-outs every caster lets rays through (`shared::cutout`).
+    pub fn cutouts(&self) -> Cutouts<'_> {
+        Cutouts {
+            triangles: &self.triangles,
+            materials: &self.materials,
+            material_textures: &self.material_textures,
+            texcoords: &self.texcoords,
+            textures: &self.textures,
+            texels: &self.texels,
         }
     }
 
     /// The scene with ray queries through obvhs's traversal of the device's BVH.
     pub fn obvhs_view(&self) -> Scene<'_, HostCaster<'_>> {
         let edges = self.edges.get_or_init(|| self.triangles.iter().map(TriangleEdges::of).collect());
-        self.with_caster(HostCaster::Obvhs(ObvhsCaster { bvh: &self.bvh, edges }))
+        self.with_caster(HostCaster::Obvhs(ObvhsCaster { bvh: &self.bvh, edges, cutouts: self.cutouts() }))
     }
 
     /// The scene as the device sees it: ray queries through the shared wide-BVH traversal (on
     /// the host, for the difftests and the ray test).
     pub fn device_view(&self) -> Scene<'_, WideBvh<'_>> {
-        self.with_caster(WideBvh { nodes: self.wide_nodes(), triangles: &self.triangles })
+        self.with_caster(WideBvh {
+            nodes: self.wide_nodes(),
+            triangles: &self.triangles,
+            cutouts: self.cutouts(),
+        })
     }
 
     /// The scene over another ray caster.
