@@ -3,7 +3,8 @@
 //! shared body run on the host), obvhs's traversal of the same BVH, Embree (the CPU backend's
 //! caster where it is installed), and the `raycast` kernel on the Vulkan device. 10^5 closest-hit and 10^5 occlusion
 //! queries a scene, from points on the scene's own triangles (as path vertices are) in uniform
-//! directions, a seventh of them axis-parallel.
+//! directions, a seventh of them axis-parallel. The `cutout` scene's MASK and BLEND triangles
+//! let rays through in each caster alike; `cut_outs_let_rays_through` checks where.
 //!
 //! The shared traversal and obvhs's run the same triangle test over the same BVH, so they must
 //! agree exactly: the same t, the same triangle but for ties (two triangles hit at the same t:
@@ -116,7 +117,7 @@ fn compare(a: &[Hit], b: &[Hit], rays: &[Ray], diagonal: f32) -> Agreement {
 
 /// The scenes: every generated stand-in and the real scenes (which CI must have).
 fn scenes() -> Vec<SceneData> {
-    let mut scenes: Vec<SceneData> = ["cornell", "atrium", "nave", "sunblind", "slit"]
+    let mut scenes: Vec<SceneData> = ["cornell", "atrium", "nave", "sunblind", "slit", "cutout"]
         .iter()
         .map(|name| {
             let json = smlt::scenes::generate(name, 1).expect("a generated scene");
@@ -215,5 +216,75 @@ fn every_caster_answers_every_query_alike() {
         println!("{}: device vs obvhs: {ties} ties, {differ} differ", scene.name);
         assert!(differ * 2000 <= rays.len(), "{}: {differ} device answers differ", scene.name);
         assert!(ties * 1000 <= rays.len(), "{}: {ties} device ties", scene.name);
+    }
+}
+
+/// Every host caster lets rays through the `cutout` scene's cut-outs where glTF says: straight
+/// down through the perforated screen (MASK), a ray at a hole's centre reaches the floor and one
+/// at a solid texel's centre stops on the screen; across the fading pane (BLEND), the share of
+/// rays it stops at each of its ramp's texel centres is its opacity, 0.8 × (1, 2/3, 1/3, 0),
+/// within four binomial standard deviations; and every occlusion query answers as the
+/// closest-hit query along the same ray.
+#[test]
+fn cut_outs_let_rays_through() {
+    let json = smlt::scenes::generate("cutout", 1).expect("the cutout scene");
+    let scene = SceneData::from_slice(json.as_bytes(), "cutout").expect("the scene loads");
+    let material = |name: &str| {
+        let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+        // Material 0 is glTF's default material; the document's follow.
+        1 + doc["materials"].as_array().unwrap().iter().position(|m| m["name"] == name).unwrap() as u32
+    };
+    let (screen, pane) = (material("perforated screen"), material("fading pane"));
+    let wide = scene.device_view().caster;
+    let obvhs = scene.obvhs_view().caster;
+    let host = scene.shared().caster;
+    let casters: [(&str, &dyn Fn(Vec3, Vec3, f32, f32) -> (Hit, bool)); 3] = [
+        ("shared", &|o, d, tmin, tmax| (wide.closest_hit(o, d, tmin, tmax), wide.occluded(o, d, tmin, 1.0))),
+        ("obvhs", &|o, d, tmin, tmax| (obvhs.closest_hit(o, d, tmin, tmax), obvhs.occluded(o, d, tmin, 1.0))),
+        ("host", &|o, d, tmin, tmax| (host.closest_hit(o, d, tmin, tmax), host.occluded(o, d, tmin, 1.0))),
+    ];
+    for (name, cast) in casters {
+        // The screen at y = 1.9: u = 2x, v = 2z, two texels a period, holes where the texel
+        // indices' sum is even. Rays from y = 2.2, 0.3 above it, straight down.
+        let mut holes = 0;
+        for i in 0..8 {
+            for j in 0..8 {
+                let (tu, tv) = (0.25 + 0.5 * (i % 2) as f32, 0.25 + 0.5 * (j % 2) as f32);
+                let (x, z) = ((-2.0 + (i / 2) as f32 + tu) / 2.0, (-3.0 + (j / 2) as f32 + tv) / 2.0);
+                let hole = (i % 2 + j % 2) % 2 == 0;
+                let (hit, blocked) = cast(Vec3::new(x, 2.2, z), Vec3::NEG_Y, 1e-4, NO_HIT);
+                assert!(hit.found(), "{name}: ({x}, {z}) hits nothing");
+                let on_screen = (hit.t - 0.3).abs() < 1e-4;
+                assert_eq!(on_screen, !hole, "{name}: ({x}, {z}): {hit:?}, hole {hole}");
+                assert_eq!(
+                    scene.triangles[hit.triangle as usize].material == screen,
+                    !hole,
+                    "{name}: ({x}, {z})"
+                );
+                assert_eq!(blocked, hit.t < 1.0, "{name}: occlusion at ({x}, {z})");
+                holes += hole as u32;
+            }
+        }
+        assert_eq!(holes, 32);
+        // The pane at x = 0.8: u = z / 1.6 + 0.75; rays along +x from x = 0, at heights in
+        // [0.7, 1.5] (clear of the block and the screen).
+        for (k, ramp) in [1.0, 2.0 / 3.0, 1.0 / 3.0, 0.0].into_iter().enumerate() {
+            let z = (0.125 + 0.25 * k as f32 - 0.75) * 1.6;
+            let n = 20_000;
+            let mut stopped = 0;
+            for r in 0..n {
+                let o = Vec3::new(0.0, 0.7 + 0.8 * (r as f32 + 0.5) / n as f32, z);
+                let (hit, blocked) = cast(o, Vec3::X, 1e-4, NO_HIT);
+                let on_pane = hit.found() && (hit.t - 0.8).abs() < 1e-4;
+                assert_eq!(on_pane, hit.found() && scene.triangles[hit.triangle as usize].material == pane);
+                assert_eq!(blocked, hit.t < 1.0, "{name}: occlusion at {o}");
+                stopped += on_pane as u32;
+            }
+            let p = 0.8 * ramp;
+            let share = stopped as f64 / n as f64;
+            let sigma = (p * (1.0 - p) / n as f64).sqrt();
+            println!("{name}: pane at ramp {ramp:.3}: stopped {share:.4}, opacity {p:.4}");
+            assert!((share - p).abs() <= 4.0 * sigma + 1e-12, "{name}: pane stopped {share}, opacity {p}");
+        }
     }
 }

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use glam::{Mat4, Vec3, Vec4Swizzles};
 use shared::bsdf::Material;
+use shared::cutout::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE};
 use shared::environment::EnvironmentMap;
 use shared::normals::TriangleNormals;
 use shared::surface::{MaterialTextures, TriangleTexcoords};
@@ -220,12 +221,6 @@ fn read_material(
     if m.normal_texture().is_some() {
         warnings.push(format!("{label}: normalTexture is ignored (shading uses the geometric normal)"));
     }
-    if m.alpha_mode() != gltf::material::AlphaMode::Opaque {
-        warnings.push(format!(
-            "{label}: alphaMode {:?} is not modelled yet: the surface renders opaque",
-            m.alpha_mode()
-        ));
-    }
     if m.occlusion_texture().is_some() {
         warnings.push(format!(
             "{label}: occlusionTexture is ignored (a path tracer computes occlusion; the texture is an approximation of it)"
@@ -246,12 +241,19 @@ fn read_material(
         metallic: pbr.metallic_factor(),
         roughness: pbr.roughness_factor(),
         transmission: m.transmission().map_or(0.0, |t| t.transmission_factor()),
+        alpha_mode: ALPHA_OPAQUE,
+        alpha_cutoff: 0.5,
+        alpha: base[3],
         _pad: 0.0,
     };
-    let textured =
-        textures.base_color.is_some() || textures.metallic_roughness.is_some() || textures.emissive.is_some();
     let strength = m.emissive_strength().unwrap_or(1.0);
     let e = m.emissive_factor();
+    let textures =
+        read_alpha(m, textures, e[0].max(e[1]).max(e[2]) * strength > 0.0, &label, &at, warnings, name)?;
+    let textured = textures.base_color.is_some()
+        || textures.metallic_roughness.is_some()
+        || textures.emissive.is_some()
+        || textures.alpha_mode != ALPHA_OPAQUE;
     let mut phong = 0.0f32;
     if let Some(raw) = m.extras() {
         let value: serde_json::Value =
@@ -313,6 +315,49 @@ fn read_material(
     }
     .with_metallic(metallic, glass.transmission);
     Ok((material, textured.then_some(textures)))
+}
+
+/// The cut-out of a material (`shared::cutout`): its `alphaMode` and `alphaCutoff` into
+/// `textures` (whose `alpha` holds `baseColorFactor`'s). An emitter stays opaque, with a
+/// warning: light sampling picks points over an emitter's whole surface.
+fn read_alpha(
+    m: &gltf::Material,
+    mut textures: MaterialTextures,
+    emissive: bool,
+    label: &str,
+    at: &str,
+    warnings: &mut Vec<String>,
+    name: &str,
+) -> Result<MaterialTextures, SceneError> {
+    let mode = match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => return Ok(textures),
+        gltf::material::AlphaMode::Mask => ALPHA_MASK,
+        gltf::material::AlphaMode::Blend => ALPHA_BLEND,
+    };
+    let alpha = textures.alpha;
+    if !(0.0..=1.0).contains(&alpha) {
+        return Err(SceneError::Malformed {
+            path: name.into(),
+            what: format!("{at}.pbrMetallicRoughness.baseColorFactor: alpha {alpha}: must lie in [0, 1]"),
+        });
+    }
+    let cutoff = m.alpha_cutoff().unwrap_or(0.5);
+    if !(cutoff.is_finite() && cutoff >= 0.0) {
+        return Err(SceneError::Malformed {
+            path: name.into(),
+            what: format!("{at}.alphaCutoff: {cutoff}: must be a finite number ≥ 0"),
+        });
+    }
+    if emissive {
+        warnings.push(format!(
+            "{label}: alphaMode {:?} on an emitter is not modelled: it renders opaque",
+            m.alpha_mode()
+        ));
+        return Ok(textures);
+    }
+    textures.alpha_mode = mode;
+    textures.alpha_cutoff = cutoff;
+    Ok(textures)
 }
 
 /// The dielectric of a material (`KHR_materials_transmission`, `_ior`, `_volume`) as the

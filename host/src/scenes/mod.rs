@@ -4,6 +4,7 @@
 pub mod atrium;
 pub mod caustic;
 pub mod cornell;
+pub mod cutout;
 pub mod lamps;
 pub mod materials;
 pub mod nave;
@@ -53,8 +54,19 @@ pub fn sun_below_sky(far: Vec3, half: f32, target: Vec3, y: f32) -> [Vec3; 4] {
 }
 
 /// The names of the generated scenes.
-pub const GENERATED: [&str; 10] =
-    ["cornell", "atrium", "nave", "sunblind", "slit", "lamps", "caustic", "materials", "textured", "smooth"];
+pub const GENERATED: [&str; 11] = [
+    "cornell",
+    "atrium",
+    "nave",
+    "sunblind",
+    "slit",
+    "lamps",
+    "caustic",
+    "materials",
+    "textured",
+    "smooth",
+    "cutout",
+];
 
 /// The embedded default scene (what `smlt scene cornell` writes).
 pub const DEFAULT_SCENE: &str = include_str!("../../../scenes/cornell.gltf");
@@ -120,6 +132,7 @@ pub fn generate(name: &str, tessellation: u32) -> Option<String> {
         "materials" => Some(materials::materials(tessellation)),
         "textured" => Some(textured::textured(tessellation)),
         "smooth" => Some(smooth::smooth(tessellation)),
+        "cutout" => Some(cutout::cutout(tessellation)),
         _ => None,
     }
 }
@@ -301,6 +314,17 @@ impl GltfBuilder {
             self.projections.resize(self.materials.len(), None);
         }
         self.projections[material] = Some(projection);
+    }
+
+    /// Makes `material` a cut-out: glTF's `alphaMode` (`"MASK"` or `"BLEND"`), its
+    /// `alphaCutoff` (MASK; None leaves glTF's default, 0.5) and `baseColorFactor`'s alpha.
+    pub fn alpha(&mut self, material: usize, mode: &str, cutoff: Option<f32>, alpha: f32) {
+        let m = &mut self.materials[material];
+        m["alphaMode"] = json!(mode);
+        if let Some(c) = cutoff {
+            m["alphaCutoff"] = json!(c);
+        }
+        m["pbrMetallicRoughness"]["baseColorFactor"][3] = json!(alpha);
     }
 
     /// Makes the glass `material` ([`GltfBuilder::glass`]) rough: its `roughnessFactor` (a
