@@ -633,3 +633,43 @@ fn normals_follow_the_inverse_transpose_and_bad_ones_are_refused() {
     let err = load(&doc).unwrap_err().to_string();
     assert!(err.contains("NORMAL 0 is not a unit vector"), "{err}");
 }
+
+/// `alphaMode` reads as the spec defines it: OPAQUE (the default) ignores alpha and needs no
+/// texture entry; MASK keeps `alphaCutoff` (0.5 by default) and BLEND the factor's alpha; an
+/// alpha outside [0, 1] or a negative cutoff is refused by its path; an emitter stays opaque,
+/// said once.
+#[test]
+fn alpha_modes_read_as_the_spec_defines_them() {
+    use shared::cutout::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE};
+    let with = |material: Value| {
+        let mut doc = glass_doc(json!({}));
+        doc["extensionsUsed"] = json!([]);
+        doc["materials"][1].as_object_mut().unwrap().remove("extensions");
+        for (k, v) in material.as_object().unwrap() {
+            doc["materials"][1][k] = v.clone();
+        }
+        doc["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"] = json!([0.9, 0.8, 0.7, 0.3]);
+        load(&doc)
+    };
+    let entry = |scene: &SceneData| {
+        let m = scene.materials.iter().find(|m| m.albedo == [0.9, 0.8, 0.7]).expect("the material");
+        scene.material_textures[m.textures as usize]
+    };
+    let opaque = with(json!({})).unwrap();
+    assert_eq!(entry(&opaque).alpha_mode, ALPHA_OPAQUE);
+    assert_eq!(opaque.material_textures.len(), 1, "an opaque untextured material needs no entry");
+    let mask = with(json!({"alphaMode": "MASK"})).unwrap();
+    assert_eq!((entry(&mask).alpha_mode, entry(&mask).alpha_cutoff, entry(&mask).alpha), (ALPHA_MASK, 0.5, 0.3));
+    let mask = with(json!({"alphaMode": "MASK", "alphaCutoff": 0.25})).unwrap();
+    assert_eq!(entry(&mask).alpha_cutoff, 0.25);
+    let blend = with(json!({"alphaMode": "BLEND"})).unwrap();
+    assert_eq!((entry(&blend).alpha_mode, entry(&blend).alpha), (ALPHA_BLEND, 0.3));
+    assert!(blend.warnings.is_empty(), "{:?}", blend.warnings);
+    let err = with(json!({"alphaMode": "MASK", "alphaCutoff": -1.0})).unwrap_err().to_string();
+    assert!(err.contains("materials[1].alphaCutoff"), "{err}");
+    let mut doc = one_light_doc();
+    doc["materials"][0]["alphaMode"] = json!("BLEND");
+    let lamp = load(&doc).unwrap();
+    assert!(lamp.warnings.iter().any(|w| w.contains("on an emitter is not modelled")), "{:?}", lamp.warnings);
+    assert_eq!(lamp.material_textures[lamp.materials[1].textures as usize].alpha_mode, ALPHA_OPAQUE);
+}

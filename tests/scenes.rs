@@ -26,6 +26,7 @@ fn the_committed_scenes_are_what_the_generators_write() {
         ("materials", include_str!("../scenes/materials.gltf")),
         ("textured", include_str!("../scenes/textured.gltf")),
         ("smooth", include_str!("../scenes/smooth.gltf")),
+        ("cutout", include_str!("../scenes/cutout.gltf")),
     ] {
         assert_eq!(
             text,

@@ -112,7 +112,8 @@ impl DeviceArgs {
 #[derive(clap::Args, Clone)]
 pub struct SceneArgs {
     /// glTF scene (.gltf or .glb) or a generated scene's name (cornell, atrium, nave, sunblind,
-    /// slit, lamps, caustic, materials); the embedded Cornell box when absent.
+    /// slit, lamps, caustic, materials, textured, smooth, cutout); the embedded Cornell box when
+    /// absent.
     pub scene: Option<PathBuf>,
     /// Which of the scene's cameras to use (1 = the first).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]

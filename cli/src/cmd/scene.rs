@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct Args {
     /// Scene name: cornell, atrium, nave, sunblind, slit, lamps, caustic, materials, textured,
-    /// smooth, or sponza-banner (with --from).
+    /// smooth, cutout, or sponza-banner (with --from).
     pub name: String,
     /// Output .gltf path.
     #[arg(long)]
