@@ -659,7 +659,10 @@ fn alpha_modes_read_as_the_spec_defines_them() {
     assert_eq!(entry(&opaque).alpha_mode, ALPHA_OPAQUE);
     assert_eq!(opaque.material_textures.len(), 1, "an opaque untextured material needs no entry");
     let mask = with(json!({"alphaMode": "MASK"})).unwrap();
-    assert_eq!((entry(&mask).alpha_mode, entry(&mask).alpha_cutoff, entry(&mask).alpha), (ALPHA_MASK, 0.5, 0.3));
+    assert_eq!(
+        (entry(&mask).alpha_mode, entry(&mask).alpha_cutoff, entry(&mask).alpha),
+        (ALPHA_MASK, 0.5, 0.3)
+    );
     let mask = with(json!({"alphaMode": "MASK", "alphaCutoff": 0.25})).unwrap();
     assert_eq!(entry(&mask).alpha_cutoff, 0.25);
     let blend = with(json!({"alphaMode": "BLEND"})).unwrap();
