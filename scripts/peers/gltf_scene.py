@@ -83,6 +83,9 @@ class Material:
     metallic_factor: float = 1.0  # glTF's own factors (`metallic` above is a share derived from them)
     roughness_factor: float = 1.0
     transmission_factor: float = 0.0
+    alpha_mode: str = "OPAQUE"  # glTF's alphaMode: MASK cuts where the opacity < alpha_cutoff; BLEND covers by it
+    alpha_cutoff: float = 0.5
+    opacity: float = 1.0  # baseColorFactor's alpha (x the base colour texture's alpha)
 
     @property
     def textures(self):
@@ -293,7 +296,8 @@ def load(path, rotation="example"):
                                   tuple(spec.get("specularColorFactor", [1.0, 1.0, 1.0])),
                                   texture(pbr.get("baseColorTexture")), texture(m.get("emissiveTexture")),
                                   texture(pbr.get("metallicRoughnessTexture")), metallic, roughness,
-                                  transmission))
+                                  transmission, m.get("alphaMode", "OPAQUE"), float(m.get("alphaCutoff", 0.5)),
+                                  float(pbr.get("baseColorFactor", [1, 1, 1, 1])[3])))
     scene = Scene(materials)
     shading = {}  # material index -> per primitive: ((k, 3, 3) normals or None (flat), its triangles)
     root = doc["scenes"][doc.get("scene", 0)]

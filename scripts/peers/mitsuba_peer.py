@@ -43,6 +43,7 @@ differ a little near a coarse mesh's silhouettes and terminator (check_normals.s
 Variants: `llvm_ad_rgb` when Mitsuba finds a libLLVM (set DRJIT_LIBLLVM_PATH; Debian's
 libllvm19 unpacked with dpkg-deb -x works), else `scalar_rgb`."""
 
+import dataclasses
 import math
 import os
 import sys
@@ -112,15 +113,15 @@ def bake(texels, tex, coords):
     return np.ascontiguousarray(texels, dtype=np.float32), WRAP[mode], a
 
 
-def texture_dict(mi, tex, factor, uv, folder, srgb=True, mesh=np.eye(3)):
+def texture_dict(mi, tex, factor, uv, folder, srgb=True, mesh=np.eye(3), texels=None):
     """glTF texture `tex` times `factor` as Mitsuba's `bitmap`, for a mesh with glTF texture
     coordinates uv (n, 3, 2) that Mitsuba's mesh holds as `mesh` (3 x 3, affine) maps them, or as
     the lookup's own coordinates where `mesh` is None: the texels decoded by Mitsuba (`decode`),
     baked for its wrap mode (`bake`), times the factor (exact: filtering is linear), stored as
     float32 (`format` variant: its default keeps 8-bit images in half precision),
     KHR_texture_transform and the bake's map as `to_uv`. Returns the dict and the lookup's map
-    of glTF's mesh coordinates to the bitmap's."""
-    texels = decode(mi, tex, folder, srgb)
+    of glTF's mesh coordinates to the bitmap's. `texels`, where given, replace the decoded image."""
+    texels = decode(mi, tex, folder, srgb) if texels is None else texels
     coords = tex.coordinates(uv.reshape(-1, 2))
     texels, mode, a = bake(texels, tex, coords)
     texels = texels * np.asarray(factor, dtype=np.float32)
@@ -129,6 +130,39 @@ def texture_dict(mi, tex, factor, uv, folder, srgb=True, mesh=np.eye(3)):
     return {"type": "bitmap", "bitmap": mi.Bitmap(texels), "raw": True, "format": "variant",
             "filter_type": "nearest" if tex.nearest else "bilinear", "wrap_mode": mode,
             "to_uv": mi.ScalarTransform3f(mi.ScalarMatrix3f(to_uv.tolist()))}, lookup
+
+
+def alpha_texels(mi, tex, folder):
+    """The texture's alpha channel (h, w, 1) as stored (linear: glTF's alpha is never sRGB)."""
+    path = os.path.join(folder, f"alpha{abs(hash(tex.image))}.png")
+    with open(path, "wb") as f:
+        f.write(tex.image)
+    raw = mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGBA, mi.Struct.Type.UInt8, srgb_gamma=False)
+    return np.array(raw)[:, :, 3:4].astype(np.float32) / 255.0
+
+
+def opacity_dict(mi, mat, uv, folder, mesh=np.eye(3)):
+    """glTF's cut-out of `mat` (alphaMode MASK or BLEND) as the opacity of Mitsuba's `mask`: the
+    factor's alpha x the base colour texture's alpha, filtered as the texture is. BLEND: that
+    opacity (a `mask` passes light through 1 - opacity of the surface, smlt's stochastic
+    opacity in expectation). MASK: 0 or 1 by alphaCutoff — Mitsuba has no threshold, so the
+    glTF lookup (gltf_scene.sample, numpy, from the spec) is evaluated at the centres of a grid
+    32 x finer than the texture's and thresholded there, the result a NEAREST bitmap (exact for
+    a NEAREST texture; the bilinear silhouette to a thirty-second of a texel)."""
+    tex = mat.base_color_texture
+    if tex is None:
+        value = mat.opacity if mat.alpha_mode == "BLEND" else float(mat.opacity >= mat.alpha_cutoff)
+        return {"type": "rgb", "value": [value] * 3}
+    alpha = alpha_texels(mi, tex, folder) * mat.opacity
+    if mat.alpha_mode == "MASK":
+        h, w = alpha.shape[:2]
+        k = 1 if tex.nearest else 32
+        ys, xs = (np.arange(h * k) + 0.5) / (h * k), (np.arange(w * k) + 0.5) / (w * k)
+        grid = np.stack(np.meshgrid(xs, ys), axis=-1)  # (h k, w k, 2): (u, v) at the fine centres
+        alpha = (gltf_scene.sample(alpha, tex, grid) >= mat.alpha_cutoff).astype(np.float32)
+        tex = dataclasses.replace(tex, nearest=True)
+    d, _ = texture_dict(mi, tex, 1.0, uv, folder, mesh=mesh, texels=np.repeat(alpha, 3, axis=2))
+    return d
 
 
 def mesh_textures(mi, mat, uv, folder):
@@ -212,6 +246,11 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
             # glTF's BRDF: mitsuba_gltf.py's plugin (two-sided), registered in main()
             bsdf = {"type": "smlt_gltf", "base_color": list(mat.albedo), "metallic": mat.metallic,
                     "alpha": mat.alpha, "f0": list(mat.f0), "f90": mat.specular}
+        if mat.alpha_mode in ("MASK", "BLEND") and max(mat.emission) == 0:
+            # glTF's cut-outs (smlt's shared/src/cutout.rs): Mitsuba's `mask` over the surface
+            bsdf = {"type": "mask", "opacity": opacity_dict(mi, mat, scene.texcoords[m][:, :, :, 0]
+                                                             if mat.base_color_texture else None, folder),
+                    "bsdf": bsdf}
         medium = None
         if mat.transmission > 0:
             glass = {"type": "thindielectric" if mat.thin_walled else "dielectric",
