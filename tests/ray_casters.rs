@@ -238,7 +238,8 @@ fn cut_outs_let_rays_through() {
     let wide = scene.device_view().caster;
     let obvhs = scene.obvhs_view().caster;
     let host = scene.shared().caster;
-    let casters: [(&str, &dyn Fn(Vec3, Vec3, f32, f32) -> (Hit, bool)); 3] = [
+    type Cast<'a> = &'a dyn Fn(Vec3, Vec3, f32, f32) -> (Hit, bool);
+    let casters: [(&str, Cast); 3] = [
         ("shared", &|o, d, tmin, tmax| (wide.closest_hit(o, d, tmin, tmax), wide.occluded(o, d, tmin, 1.0))),
         ("obvhs", &|o, d, tmin, tmax| (obvhs.closest_hit(o, d, tmin, tmax), obvhs.occluded(o, d, tmin, 1.0))),
         ("host", &|o, d, tmin, tmax| (host.closest_hit(o, d, tmin, tmax), host.occluded(o, d, tmin, 1.0))),
