@@ -468,6 +468,18 @@ fn smooth_normal_passes_agree_on_device_and_cpu() {
     }
 }
 
+/// On cut-outs (`scenes/cutout.gltf`: a MASK screen of NEAREST holes, a bilinear MASK leaf, a
+/// BLEND pane): the alpha lookups inside traversal and the stochastic opacity's hash, in every
+/// ray the passes cast.
+#[test]
+fn cut_out_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("cut_out_passes_agree_on_device_and_cpu") {
+        let cutout =
+            SceneData::from_slice(include_bytes!("../scenes/cutout.gltf"), "cutout").expect("cutout");
+        difftest_both_estimators(gpu, &cutout);
+    }
+}
+
 #[test]
 fn reject_chain_eight_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("reject_chain_eight_passes_agree_on_device_and_cpu") {
@@ -604,7 +616,8 @@ fn every_pass_binds_what_its_kernel_declares() {
 /// The path tracer's pass (`--method pt`, and `smlt reference`): one round of 4 samples a
 /// pixel on the device and on the CPU backend, pixel by pixel, on the default scene, on
 /// Sibenik-like geometry (the nave), under the environment (`sky_scene`), on glTF's BRDF
-/// (`brdf_scene`), on textures (`textured_scene`) and on smooth normals (`smooth.gltf`): at most
+/// (`brdf_scene`), on textures (`textured_scene`), on smooth normals (`smooth.gltf`) and on cut-outs
+/// (`cutout.gltf`): at most
 /// 0.5 % of pixel values differ beyond 1e-3 relative
 /// (a path that grazes an edge may take the other branch).
 #[test]
@@ -620,6 +633,7 @@ fn the_path_tracer_agrees_on_device_and_cpu() {
         ("brdf", common::scenes::brdf_scene(false)),
         ("textured", common::scenes::textured_scene()),
         ("smooth", SceneData::from_slice(include_bytes!("../scenes/smooth.gltf"), "smooth").expect("smooth")),
+        ("cutout", SceneData::from_slice(include_bytes!("../scenes/cutout.gltf"), "cutout").expect("cutout")),
     ] {
         let s = Settings {
             width: 24,

@@ -18,7 +18,8 @@ mod common;
 use std::path::Path;
 
 use common::rng::Xorshift;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
+use shared::cutout::blend_key;
 use shared::params::RenderParams;
 use shared::ray_caster::{Hit, RayCaster, NO_HIT};
 use shared::rays::{cast, Ray, RAY_CLOSEST, RAY_OCCLUSION};
@@ -63,11 +64,13 @@ fn queries(scene: &SceneData, seed: u64) -> Vec<Ray> {
             continue;
         }
         let d = d.normalize();
-        rays.push(Ray::new(RAY_CLOSEST, o, d, tmin, NO_HIT));
-        let hit = caster.closest_hit(o, d, tmin, NO_HIT);
+        // Each query its own key for its BLEND draws (the occlusion ray along it another).
+        let key = (rays.len() as u32).wrapping_mul(0x9e37_79b9);
+        rays.push(Ray::new(RAY_CLOSEST, o, d, tmin, NO_HIT, key));
+        let hit = caster.closest_hit(o, d, tmin, NO_HIT, key);
         let reach = if hit.found() { hit.t } else { diagonal };
         let tmax = reach * [0.5, 0.999, 1.001, 2.0][rays.len() % 4];
-        occlusion.push(Ray::new(RAY_OCCLUSION, o, d, tmin, tmax));
+        occlusion.push(Ray::new(RAY_OCCLUSION, o, d, tmin, tmax, !key));
     }
     rays.extend(occlusion);
     rays
@@ -77,9 +80,9 @@ fn queries(scene: &SceneData, seed: u64) -> Vec<Ray> {
 fn answer<R: RayCaster>(caster: &R, ray: &Ray) -> Hit {
     let (o, d) = (Vec3::from_array(ray.origin), Vec3::from_array(ray.direction));
     if ray.kind == RAY_CLOSEST {
-        caster.closest_hit(o, d, ray.tmin, ray.tmax)
+        caster.closest_hit(o, d, ray.tmin, ray.tmax, ray.key)
     } else {
-        let blocked = caster.occluded(o, d, ray.tmin, ray.tmax);
+        let blocked = caster.occluded(o, d, ray.tmin, ray.tmax, ray.key);
         Hit { t: if blocked { 0.0 } else { NO_HIT }, triangle: 0 }
     }
 }
@@ -238,11 +241,12 @@ fn cut_outs_let_rays_through() {
     let wide = scene.device_view().caster;
     let obvhs = scene.obvhs_view().caster;
     let host = scene.shared().caster;
-    type Cast<'a> = &'a dyn Fn(Vec3, Vec3, f32, f32) -> (Hit, bool);
+    // A query and the occlusion query along it (to 1.0), with one key.
+    type Cast<'a> = &'a dyn Fn(Vec3, Vec3, f32, f32, u32) -> (Hit, bool);
     let casters: [(&str, Cast); 3] = [
-        ("shared", &|o, d, tmin, tmax| (wide.closest_hit(o, d, tmin, tmax), wide.occluded(o, d, tmin, 1.0))),
-        ("obvhs", &|o, d, tmin, tmax| (obvhs.closest_hit(o, d, tmin, tmax), obvhs.occluded(o, d, tmin, 1.0))),
-        ("host", &|o, d, tmin, tmax| (host.closest_hit(o, d, tmin, tmax), host.occluded(o, d, tmin, 1.0))),
+        ("shared", &|o, d, t0, t1, k| (wide.closest_hit(o, d, t0, t1, k), wide.occluded(o, d, t0, 1.0, k))),
+        ("obvhs", &|o, d, t0, t1, k| (obvhs.closest_hit(o, d, t0, t1, k), obvhs.occluded(o, d, t0, 1.0, k))),
+        ("host", &|o, d, t0, t1, k| (host.closest_hit(o, d, t0, t1, k), host.occluded(o, d, t0, 1.0, k))),
     ];
     for (name, cast) in casters {
         // The screen at y = 1.9: u = 2x, v = 2z, two texels a period, holes where the texel
@@ -253,7 +257,7 @@ fn cut_outs_let_rays_through() {
                 let (tu, tv) = (0.25 + 0.5 * (i % 2) as f32, 0.25 + 0.5 * (j % 2) as f32);
                 let (x, z) = ((-2.0 + (i / 2) as f32 + tu) / 2.0, (-3.0 + (j / 2) as f32 + tv) / 2.0);
                 let hole = (i % 2 + j % 2) % 2 == 0;
-                let (hit, blocked) = cast(Vec3::new(x, 2.2, z), Vec3::NEG_Y, 1e-4, NO_HIT);
+                let (hit, blocked) = cast(Vec3::new(x, 2.2, z), Vec3::NEG_Y, 1e-4, NO_HIT, 0);
                 assert!(hit.found(), "{name}: ({x}, {z}) hits nothing");
                 let on_screen = (hit.t - 0.3).abs() < 1e-4;
                 assert_eq!(on_screen, !hole, "{name}: ({x}, {z}): {hit:?}, hole {hole}");
@@ -275,7 +279,8 @@ fn cut_outs_let_rays_through() {
             let mut stopped = 0;
             for r in 0..n {
                 let o = Vec3::new(0.0, 0.7 + 0.8 * (r as f32 + 0.5) / n as f32, z);
-                let (hit, blocked) = cast(o, Vec3::X, 1e-4, NO_HIT);
+                let key = blend_key(Vec2::new(r as f32 / n as f32, ramp as f32));
+                let (hit, blocked) = cast(o, Vec3::X, 1e-4, NO_HIT, key);
                 let on_pane = hit.found() && (hit.t - 0.8).abs() < 1e-4;
                 assert_eq!(on_pane, hit.found() && scene.triangles[hit.triangle as usize].material == pane);
                 assert_eq!(blocked, hit.t < 1.0, "{name}: occlusion at {o}");

@@ -192,23 +192,24 @@ fn ray_casters_match_brute_force() {
         let d = d.normalize();
         let (tmin, tmax) = if i % 5 == 0 { (0.5 * next(), 2.0 + 8.0 * next()) } else { (0.0, NO_HIT) };
         let truth = brute(o, d, tmin, tmax);
-        for (name, hit) in
-            [("device", device.closest_hit(o, d, tmin, tmax)), ("obvhs", obvhs.closest_hit(o, d, tmin, tmax))]
-        {
+        for (name, hit) in [
+            ("device", device.closest_hit(o, d, tmin, tmax, 0)),
+            ("obvhs", obvhs.closest_hit(o, d, tmin, tmax, 0)),
+        ] {
             assert_eq!(hit.found(), truth.found(), "{name} ray {i}: o {o} d {d}: {hit:?} vs {truth:?}");
             // The same triangle test gives the same t; two triangles at one t are a tie.
             assert_eq!(hit.t, truth.t, "{name} ray {i}: o {o} d {d}");
         }
         let occluded = truth.found();
-        assert_eq!(device.occluded(o, d, tmin, tmax), occluded, "device ray {i}");
-        assert_eq!(obvhs.occluded(o, d, tmin, tmax), occluded, "obvhs ray {i}");
+        assert_eq!(device.occluded(o, d, tmin, tmax, 0), occluded, "device ray {i}");
+        assert_eq!(obvhs.occluded(o, d, tmin, tmax, 0), occluded, "obvhs ray {i}");
         if embree {
             // Embree's own triangle test: t within 1e-5 relative; a ray through an edge or a
             // degenerate triangle's line may differ.
-            let hit = host.closest_hit(o, d, tmin, tmax);
+            let hit = host.closest_hit(o, d, tmin, tmax, 0);
             let same =
                 hit.found() == truth.found() && (!hit.found() || (hit.t - truth.t).abs() <= 1e-5 * truth.t);
-            let blocked_alike = host.occluded(o, d, tmin, tmax) == occluded;
+            let blocked_alike = host.occluded(o, d, tmin, tmax, 0) == occluded;
             embree_differ += (!same || !blocked_alike) as u32;
         }
         hits += truth.found() as u32;
@@ -552,7 +553,7 @@ fn textures_load_with_their_samplers_transforms_and_coordinates() {
     let shared_scene = scene.shared();
     let floor_at = |x: f32, z: f32| {
         let p = Vec3::new(x, 0.0, z);
-        let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT);
+        let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT, 0);
         shared::surface::material_at(&shared_scene, hit.triangle, p).albedo
     };
     let light = shared::texture::srgb_to_linear(210.0 / 255.0);

@@ -104,7 +104,7 @@ fn the_sunblind_light_is_invisible_from_the_room() {
         let t = lights[(next() * lights.len() as f32) as usize % lights.len()];
         let q = t.point(next() * 0.5, next() * 0.5);
         let d = (q - p).normalize();
-        let hit = scene.shared().caster.closest_hit(p, d, 1e-4, 1e30);
+        let hit = scene.shared().caster.closest_hit(p, d, 1e-4, 1e30, 0);
         let mat = scene.materials[scene.triangles[hit.triangle as usize].material as usize];
         if hit.found() && mat.is_emissive() {
             through += 1;
@@ -129,7 +129,7 @@ fn centre_of(scene: &SceneData, pick: impl Fn(&shared::bsdf::Material) -> bool) 
 /// Whether nothing lies between `a` and `b`.
 fn clear(scene: &SceneData, a: Vec3, b: Vec3) -> bool {
     let (d, len) = ((b - a).normalize(), (b - a).length());
-    !scene.shared().caster.occluded(a, d, 1e-3 * len, (1.0 - 1e-3) * len)
+    !scene.shared().caster.occluded(a, d, 1e-3 * len, (1.0 - 1e-3) * len, 0)
 }
 
 /// The sun (the brightest emitter) and the banner (the Phong-1e5 quad) of a scene: their
@@ -148,7 +148,7 @@ fn assert_the_sun_lights_the_banner(scene: &SceneData, name: &str) {
     let to_sun = (sun - banner).normalize();
     let n = tri.normal() * tri.normal().dot(to_sun).signum();
     let mirrored = 2.0 * to_sun.dot(n) * n - to_sun;
-    let hit = scene.shared().caster.closest_hit(banner + n * 1e-3, mirrored, 0.0, 1e30);
+    let hit = scene.shared().caster.closest_hit(banner + n * 1e-3, mirrored, 0.0, 1e30, 0);
     assert!(
         hit.found()
             && !scene.materials[scene.triangles[hit.triangle as usize].material as usize].is_emissive()

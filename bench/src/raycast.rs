@@ -42,14 +42,14 @@ impl<R> Logged<R> {
 }
 
 impl<R: RayCaster> RayCaster for &Logged<R> {
-    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
-        self.rays.borrow_mut().push(Ray::new(RAY_CLOSEST, o, d, tmin, tmax));
-        self.inner.closest_hit(o, d, tmin, tmax)
+    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> Hit {
+        self.rays.borrow_mut().push(Ray::new(RAY_CLOSEST, o, d, tmin, tmax, key));
+        self.inner.closest_hit(o, d, tmin, tmax, key)
     }
 
-    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
-        self.rays.borrow_mut().push(Ray::new(RAY_OCCLUSION, o, d, tmin, tmax));
-        self.inner.occluded(o, d, tmin, tmax)
+    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> bool {
+        self.rays.borrow_mut().push(Ray::new(RAY_OCCLUSION, o, d, tmin, tmax, key));
+        self.inner.occluded(o, d, tmin, tmax, key)
     }
 }
 

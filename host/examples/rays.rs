@@ -88,9 +88,9 @@ fn main() -> anyhow::Result<()> {
     let host = scene.shared().caster;
     println!("  CPU backend caster: {} (built in {:.2} s)", host.describe(), build.elapsed().as_secs_f64());
     let obvhs = scene.obvhs_view().caster;
-    time("shared wide BVH (the kernels' traversal)", &|o, d| wide.closest_hit(o, d, tmin, NO_HIT).found());
-    time("obvhs traversal, smlt's triangle test", &|o, d| obvhs.closest_hit(o, d, tmin, NO_HIT).found());
-    time("CPU backend caster", &|o, d| host.closest_hit(o, d, tmin, NO_HIT).found());
+    time("shared wide BVH (the kernels' traversal)", &|o, d| wide.closest_hit(o, d, tmin, NO_HIT, 0).found());
+    time("obvhs traversal, smlt's triangle test", &|o, d| obvhs.closest_hit(o, d, tmin, NO_HIT, 0).found());
+    time("CPU backend caster", &|o, d| host.closest_hit(o, d, tmin, NO_HIT, 0).found());
     let rt: Vec<obvhs::rt_triangle::RtTriangle> = bvh
         .primitive_indices
         .iter()
@@ -101,8 +101,8 @@ fn main() -> anyhow::Result<()> {
         let mut hit = obvhs::ray::RayHit::none();
         bvh.ray_traverse(ray, &mut hit, |r, id| rt[id].intersect(r))
     });
-    time("shared wide BVH, occlusion to t = 1", &|o, d| wide.occluded(o, d, tmin, 1.0));
-    time("obvhs traversal, occlusion to t = 1", &|o, d| obvhs.occluded(o, d, tmin, 1.0));
-    time("CPU backend caster, occlusion to t = 1", &|o, d| host.occluded(o, d, tmin, 1.0));
+    time("shared wide BVH, occlusion to t = 1", &|o, d| wide.occluded(o, d, tmin, 1.0, 0));
+    time("obvhs traversal, occlusion to t = 1", &|o, d| obvhs.occluded(o, d, tmin, 1.0, 0));
+    time("CPU backend caster, occlusion to t = 1", &|o, d| host.occluded(o, d, tmin, 1.0, 0));
     Ok(())
 }

@@ -11,11 +11,14 @@
 //! - BLEND: the triangle stops a ray with probability equal to its opacity (stochastic
 //!   opacity: a surface of coverage α, seen through where it is not). In expectation a ray
 //!   meets α of the surface and passes (1 − α) of the time, which is the coverage BLEND means,
-//!   and the estimate stays unbiased. The number that decides is a hash of the ray and the
-//!   triangle ([`blend_draw`]), as pbrt-v4 does for its alpha textures, so a path is a function
-//!   of its random numbers (a Metropolis chain re-traces a path and meets the same decisions,
-//!   and every caster decides alike); unlike pbrt-v4's, the triangle is hashed too, so two BLEND
-//!   layers along one ray decide independently.
+//!   and the estimate stays unbiased. The number that decides is a hash of the ray's **key** and
+//!   the triangle ([`blend_draw`]). The key is a hash of the two uniforms that chose the ray's
+//!   direction ([`blend_key`]), so a path stays a function of its random numbers (a Metropolis
+//!   chain re-traces a path and meets the same decisions) and every caster, on the device and
+//!   on the CPU, decides alike. pbrt-v4 hashes the ray's origin and direction instead; those
+//!   differ by an ulp between casters whose triangle tests round differently, and a draw
+//!   hashed from them flips, so the device and the CPU backend part ways on BLEND scenes. The
+//!   triangle is hashed too, so two BLEND layers along one ray decide independently.
 //!
 //! Emitters are never cut out (the loader makes an emissive cut-out opaque, with a warning):
 //! light sampling picks points on an emitter's whole surface.
@@ -96,9 +99,10 @@ impl Cutouts<'_> {
         self.of(slot).alpha_mode != ALPHA_OPAQUE
     }
 
-    /// Whether triangle `slot`, hit at distance `t` by the ray (`o`, `d`), stops it.
+    /// Whether triangle `slot`, hit at distance `t` by the ray (`o`, `d`) whose draws are
+    /// keyed by `key` ([`blend_key`]), stops it.
     #[inline]
-    pub fn stops(&self, slot: u32, o: Vec3, d: Vec3, t: f32) -> bool {
+    pub fn stops(&self, slot: u32, o: Vec3, d: Vec3, t: f32, key: u32) -> bool {
         let m = self.of(slot);
         if m.alpha_mode == ALPHA_OPAQUE {
             return true;
@@ -107,7 +111,7 @@ impl Cutouts<'_> {
         if m.alpha_mode == ALPHA_MASK {
             alpha >= m.alpha_cutoff
         } else {
-            blend_draw(o, d, slot) < alpha
+            blend_draw(key, slot) < alpha
         }
     }
 
@@ -128,13 +132,19 @@ impl Cutouts<'_> {
     }
 }
 
-/// The uniform number in [0, 1) that decides whether BLEND triangle `slot` stops the ray
-/// (`o`, `d`): a hash of the ray's origin and direction (their bits) and of the triangle.
+/// The key of a ray's BLEND draws: a hash of the two uniforms `u` that chose its direction
+/// (a camera ray's raster position, a BSDF sample's, a light sample's point). The uniforms are
+/// bit for bit the same on every backend, where the ray they give is not.
 #[inline]
-pub fn blend_draw(o: Vec3, d: Vec3, slot: u32) -> f32 {
-    let a = pcg4d([o.x.to_bits(), o.y.to_bits(), o.z.to_bits(), slot]);
-    let b = pcg4d([d.x.to_bits() ^ a[0], d.y.to_bits() ^ a[1], d.z.to_bits() ^ a[2], a[3]]);
-    unit_f32(b[0])
+pub fn blend_key(u: Vec2) -> u32 {
+    pcg4d([u.x.to_bits(), u.y.to_bits(), 0x2545_f491, 0x9e37_79b9])[0]
+}
+
+/// The uniform number in [0, 1) that decides whether BLEND triangle `slot` stops a ray whose
+/// draws are keyed by `key`.
+#[inline]
+pub fn blend_draw(key: u32, slot: u32) -> f32 {
+    unit_f32(pcg4d([key, slot, 0x85eb_ca6b, 0xc2b2_ae35])[0])
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]

@@ -184,7 +184,7 @@ pub struct WideBvh<'a> {
 impl WideBvh<'_> {
     /// Walks the BVH; with `any` it stops at the first hit (shadow rays).
     #[inline]
-    fn traverse(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, any: bool) -> Hit {
+    fn traverse(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32, any: bool) -> Hit {
         let inv = Vec3::new(safe_reciprocal(d.x), safe_reciprocal(d.y), safe_reciprocal(d.z));
         let octant = octant_inv(d);
         let mut best = Hit::NONE;
@@ -203,7 +203,7 @@ impl WideBvh<'_> {
                 triangle_mask &= !(1 << bit);
                 let slot = triangle_base + bit;
                 let t = intersect_triangle(&self.triangles[slot as usize], o, d, tmin, t_limit);
-                if t < t_limit && self.cutouts.stops(slot, o, d, t) {
+                if t < t_limit && self.cutouts.stops(slot, o, d, t, key) {
                     t_limit = t;
                     best = Hit { t, triangle: slot };
                     if any {
@@ -247,13 +247,13 @@ impl WideBvh<'_> {
 
 impl RayCaster for WideBvh<'_> {
     #[inline]
-    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
-        self.traverse(o, d, tmin, tmax, false)
+    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> Hit {
+        self.traverse(o, d, tmin, tmax, key, false)
     }
 
     #[inline]
-    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
-        self.traverse(o, d, tmin, tmax, true).found()
+    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> bool {
+        self.traverse(o, d, tmin, tmax, key, true).found()
     }
 }
 
@@ -308,12 +308,12 @@ mod tests {
         let (nodes, tris) = one_leaf(tri);
         let bvh = WideBvh { nodes: &nodes, triangles: &tris, cutouts: Cutouts::NONE };
         let (o, down) = (Vec3::new(0.25, 2.0, 0.25), Vec3::NEG_Y);
-        assert_eq!(bvh.closest_hit(o, down, 0.0, NO_HIT), Hit { t: 1.5, triangle: 0 });
-        assert!(!bvh.closest_hit(o, -down, 0.0, NO_HIT).found());
-        assert!(bvh.occluded(o, down, 0.0, 2.0));
-        assert!(!bvh.occluded(o, down, 0.0, 1.0), "the triangle lies beyond tmax");
-        assert!(!bvh.occluded(o, down, 1.6, NO_HIT), "the triangle lies before tmin");
-        assert!(!bvh.closest_hit(Vec3::new(0.9, 2.0, 0.9), down, 0.0, NO_HIT).found(), "outside");
+        assert_eq!(bvh.closest_hit(o, down, 0.0, NO_HIT, 0), Hit { t: 1.5, triangle: 0 });
+        assert!(!bvh.closest_hit(o, -down, 0.0, NO_HIT, 0).found());
+        assert!(bvh.occluded(o, down, 0.0, 2.0, 0));
+        assert!(!bvh.occluded(o, down, 0.0, 1.0, 0), "the triangle lies beyond tmax");
+        assert!(!bvh.occluded(o, down, 1.6, NO_HIT, 0), "the triangle lies before tmin");
+        assert!(!bvh.closest_hit(Vec3::new(0.9, 2.0, 0.9), down, 0.0, NO_HIT, 0).found(), "outside");
     }
 
     /// 80 bytes, laid out as obvhs's node (the host casts obvhs's nodes to these; the host's

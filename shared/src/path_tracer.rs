@@ -20,6 +20,7 @@ use glam::{Vec2, Vec3};
 
 use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample, medium_coefficient, transmittance};
 use crate::camera::Camera;
+use crate::cutout::blend_key;
 use crate::light::emitted;
 use crate::light::{is_environment, is_punctual, punctual_index, sample_light};
 use crate::normals::scattering_cosine;
@@ -176,9 +177,11 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
     // Beer–Lambert coefficient of the medium the current segment runs through.
     let mut sigma = Vec3::ZERO;
     let mut vertices = 0u32;
+    // The key of the segment's cut-out draws: from the uniforms that chose its direction.
+    let mut key = blend_key(Vec2::new(x, y));
     let mut v = 1u32;
     while v <= settings.max_depth + 1 {
-        let hit = scene.caster.closest_hit(origin, d, 0.0, NO_HIT);
+        let hit = scene.caster.closest_hit(origin, d, 0.0, NO_HIT, key);
         if !hit.found() {
             // The environment, reached by this segment (not from inside a medium, whose
             // transmittance over an unbounded distance is 0); after a BSDF sample it competes
@@ -226,6 +229,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         vertices = v;
         // Next-event estimation: one light sample from this vertex.
         let ls = sample_light(&scene, settings.light_count, u[0], Vec2::new(u[1], u[2]));
+        let shadow_key = blend_key(Vec2::new(u[1], u[2]));
         if is_environment(ls.light) {
             // A direction towards the environment: a shadow ray out of the scene's bounds.
             let wi = -ls.n;
@@ -233,7 +237,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
             if ls.emission.max_element() > 0.0 && f.max_element() > 0.0 && ls.pdf_area > 0.0 {
                 let from = spawn(p, n, wi, settings.epsilon);
                 let reach = (scene.environment.beyond(from, wi) - from).length();
-                if !scene.caster.occluded(from, wi, 0.0, reach) {
+                if !scene.caster.occluded(from, wi, 0.0, reach, shadow_key) {
                     let weight = power_heuristic(ls.pdf_area, bsdf_pdf(&m, normals, wo, wi));
                     radiance += beta
                         * f
@@ -249,7 +253,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
                 let from = spawn(p, n, inc.wi, settings.epsilon);
                 let span = inc.from - from;
                 let len = span.length();
-                if len > 0.0 && !scene.caster.occluded(from, span / len, 0.0, len) {
+                if len > 0.0 && !scene.caster.occluded(from, span / len, 0.0, len, shadow_key) {
                     radiance +=
                         beta * f * inc.radiance * (scattering_cosine(normals, wo, inc.wi, true) / ls.pick);
                 }
@@ -270,7 +274,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
                     let target = spawn(q, nq, -wl, settings.epsilon);
                     let span = target - from;
                     let len = span.length();
-                    if !scene.caster.occluded(from, span / len, 0.0, len) {
+                    if !scene.caster.occluded(from, span / len, 0.0, len, shadow_key) {
                         let weight = power_heuristic(pdf_light, bsdf_pdf(&m, normals, wo, wl));
                         radiance +=
                             beta * f * le * (scattering_cosine(normals, wo, wl, true) * weight / pdf_light);
@@ -296,6 +300,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
         sigma = medium_coefficient(&m, n, bs.wi);
         origin = spawn(p, n, bs.wi, settings.epsilon);
         d = bs.wi;
+        key = blend_key(Vec2::new(u[3], u[4]));
         v += 1;
     }
     PathEstimate { radiance, vertices }

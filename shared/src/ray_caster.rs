@@ -4,7 +4,8 @@
 //! host's `caster` module). Every caster answers the same way: hits with t strictly inside
 //! (tmin, tmax), both faces, degenerate triangles never, NaN never — the triangle test is
 //! [`crate::triangle::intersect_triangle`] for all of them — and a cut-out triangle only where
-//! [`crate::cutout::Cutouts::stops`] says it stops the ray.
+//! [`crate::cutout::Cutouts::stops`] says it stops the ray, its stochastic opacity drawn from
+//! the query's `key` ([`crate::cutout::blend_key`] of the uniforms that chose the ray).
 
 use glam::Vec3;
 
@@ -33,21 +34,21 @@ impl Hit {
 /// Answers ray queries against the scene's triangles (the directions are unit vectors). A
 /// caster is a small handle (slices, a reference), copied into every stage as the scene is.
 pub trait RayCaster: Copy {
-    /// The closest triangle the ray hits in (tmin, tmax).
-    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit;
-    /// Whether anything blocks the ray in (tmin, tmax).
-    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool;
+    /// The closest triangle the ray hits in (tmin, tmax); `key` draws its BLEND cut-outs.
+    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> Hit;
+    /// Whether anything blocks the ray in (tmin, tmax); `key` draws its BLEND cut-outs.
+    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> bool;
 }
 
 impl<T: RayCaster> RayCaster for &T {
     #[inline]
-    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
-        (**self).closest_hit(o, d, tmin, tmax)
+    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> Hit {
+        (**self).closest_hit(o, d, tmin, tmax, key)
     }
 
     #[inline]
-    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
-        (**self).occluded(o, d, tmin, tmax)
+    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> bool {
+        (**self).occluded(o, d, tmin, tmax, key)
     }
 }
 

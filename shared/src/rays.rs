@@ -29,14 +29,16 @@ pub struct Ray {
     pub tmax: f32,
     /// [`RAY_NONE`], [`RAY_CLOSEST`] or [`RAY_OCCLUSION`].
     pub kind: u32,
+    /// The query's key for its BLEND cut-outs ([`crate::cutout::blend_key`]).
+    pub key: u32,
     /// Padding to 16 bytes.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 
 impl Ray {
-    /// The query `kind` along o + t·d for tmin < t < tmax.
-    pub fn new(kind: u32, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Self {
-        Self { origin: o.to_array(), tmin, direction: d.to_array(), tmax, kind, _pad: [0; 3] }
+    /// The query `kind` along o + t·d for tmin < t < tmax, its cut-outs drawn by `key`.
+    pub fn new(kind: u32, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> Self {
+        Self { origin: o.to_array(), tmin, direction: d.to_array(), tmax, kind, key, _pad: [0; 2] }
     }
 }
 
@@ -49,14 +51,14 @@ pub fn cast<R: RayCaster>(caster: &R, ray: &Ray) -> u32 {
     let o = Vec3::from_array(ray.origin);
     let d = Vec3::from_array(ray.direction);
     if ray.kind == RAY_CLOSEST {
-        let hit = caster.closest_hit(o, d, ray.tmin, ray.tmax);
+        let hit = caster.closest_hit(o, d, ray.tmin, ray.tmax, ray.key);
         if hit.found() {
             hit.triangle + 1
         } else {
             0
         }
     } else if ray.kind == RAY_OCCLUSION {
-        caster.occluded(o, d, ray.tmin, ray.tmax) as u32
+        caster.occluded(o, d, ray.tmin, ray.tmax, ray.key) as u32
     } else {
         0
     }

@@ -73,6 +73,8 @@ struct QueryContext<'a> {
     cutouts: &'a Cutouts<'a>,
     /// smlt's slot of each primitive of the cut-out geometry.
     slots: &'a [u32],
+    /// The query's key for its BLEND draws (one ray a query: `rtcIntersect1`/`rtcOccluded1`).
+    key: u32,
 }
 
 /// `RTCFilterFunctionNArguments`: the candidate hits of N rays (SoA), and a valid flag each.
@@ -305,7 +307,7 @@ unsafe extern "C" fn cutout_filter(args: *const FilterArguments) {
             let t = ray(8, i);
             let primitive = *args.hit.add(5 * n + i) as usize;
             let Some(&slot) = context.slots.get(primitive) else { continue };
-            if !context.cutouts.stops(slot, o, d, t) {
+            if !context.cutouts.stops(slot, o, d, t, context.key) {
                 *args.valid.add(i) = 0;
             }
         }
@@ -322,24 +324,25 @@ pub struct EmbreeCaster<'a> {
 }
 
 impl EmbreeCaster<'_> {
-    fn context<'c>(&'c self) -> QueryContext<'c> {
+    fn context<'c>(&'c self, key: u32) -> QueryContext<'c> {
         QueryContext {
             embree: IntersectContext { flags: 0, filter: std::ptr::null(), inst_id: [INVALID_ID] },
             cutouts: &self.cutouts,
             slots: &self.scene.slots[1],
+            key,
         }
     }
 
-    /// The closest hit in (tmin, tmax).
+    /// The closest hit in (tmin, tmax), BLEND cut-outs drawn by `key`.
     #[inline]
-    pub fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
+    pub fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> Hit {
         if !EmbreeScene::takes(o, d, tmin, tmax) {
             return Hit { t: NO_HIT, triangle: 0 };
         }
         let mut rayhit = RayHit { ray: EmbreeScene::ray(o, d, tmin, tmax), hit: HitRecord::default() };
         rayhit.hit.geom_id = INVALID_ID;
         rayhit.hit.prim_id = INVALID_ID;
-        let mut context = self.context();
+        let mut context = self.context(key);
         let scene = self.scene;
         // SAFETY: a committed scene, a context that begins with Embree's and a ray hit laid out
         // as Embree's.
@@ -350,14 +353,14 @@ impl EmbreeCaster<'_> {
         }
     }
 
-    /// Whether anything blocks the ray in (tmin, tmax).
+    /// Whether anything blocks the ray in (tmin, tmax), BLEND cut-outs drawn by `key`.
     #[inline]
-    pub fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+    pub fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> bool {
         if !EmbreeScene::takes(o, d, tmin, tmax) {
             return false;
         }
         let mut ray = EmbreeScene::ray(o, d, tmin, tmax);
-        let mut context = self.context();
+        let mut context = self.context(key);
         let scene = self.scene;
         // SAFETY: as for closest_hit; Embree sets tfar to −∞ when the ray is blocked.
         unsafe { (scene.api.occluded1)(scene.scene, &mut context.embree, &mut ray) };

@@ -34,18 +34,18 @@ impl HostCaster<'_> {
 
 impl RayCaster for HostCaster<'_> {
     #[inline]
-    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
+    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> Hit {
         match self {
-            HostCaster::Embree(e) => e.closest_hit(o, d, tmin, tmax),
-            HostCaster::Obvhs(c) => c.closest_hit(o, d, tmin, tmax),
+            HostCaster::Embree(e) => e.closest_hit(o, d, tmin, tmax, key),
+            HostCaster::Obvhs(c) => c.closest_hit(o, d, tmin, tmax, key),
         }
     }
 
     #[inline]
-    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> bool {
         match self {
-            HostCaster::Embree(e) => e.occluded(o, d, tmin, tmax),
-            HostCaster::Obvhs(c) => c.occluded(o, d, tmin, tmax),
+            HostCaster::Embree(e) => e.occluded(o, d, tmin, tmax, key),
+            HostCaster::Obvhs(c) => c.occluded(o, d, tmin, tmax, key),
         }
     }
 }

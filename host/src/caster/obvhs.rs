@@ -25,9 +25,9 @@ pub struct ObvhsCaster<'a> {
 impl ObvhsCaster<'_> {
     /// The distance at which triangle `slot` stops the ray within (tmin, tmax), or [`NO_HIT`].
     #[inline]
-    fn test(&self, slot: usize, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> f32 {
+    fn test(&self, slot: usize, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> f32 {
         let t = self.edges[slot].intersect(o, d, tmin, tmax);
-        if t < tmax && !self.cutouts.stops(slot as u32, o, d, t) {
+        if t < tmax && !self.cutouts.stops(slot as u32, o, d, t, key) {
             NO_HIT
         } else {
             t
@@ -46,10 +46,11 @@ fn obvhs_ray(o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Ray {
 
 impl RayCaster for ObvhsCaster<'_> {
     #[inline]
-    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Hit {
+    fn closest_hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> Hit {
         let mut hit = RayHit::none();
         let ray = obvhs_ray(o, d, tmin, tmax);
-        let found = self.bvh.ray_traverse(ray, &mut hit, |ray, slot| self.test(slot, o, d, tmin, ray.tmax));
+        let found =
+            self.bvh.ray_traverse(ray, &mut hit, |ray, slot| self.test(slot, o, d, tmin, ray.tmax, key));
         if found {
             Hit { t: hit.t, triangle: hit.primitive_id }
         } else {
@@ -58,8 +59,8 @@ impl RayCaster for ObvhsCaster<'_> {
     }
 
     #[inline]
-    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> bool {
+    fn occluded(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32, key: u32) -> bool {
         let ray = obvhs_ray(o, d, tmin, tmax);
-        !self.bvh.ray_traverse_miss(ray, |ray, slot| self.test(slot, o, d, tmin, ray.tmax))
+        !self.bvh.ray_traverse_miss(ray, |ray, slot| self.test(slot, o, d, tmin, ray.tmax, key))
     }
 }

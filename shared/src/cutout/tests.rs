@@ -90,14 +90,14 @@ fn mask_stops_where_the_opacity_reaches_the_cutoff() {
     let f = Fixture::new(ALPHA_MASK, 1.0, true);
     let c = f.cutouts();
     let (o, d) = onto(0.2, 0.3);
-    assert!(!c.stops(0, o, d, 1.0), "alpha 0.2 < cutoff 0.5: cut away");
+    assert!(!c.stops(0, o, d, 1.0, 0), "alpha 0.2 < cutoff 0.5: cut away");
     let (o, d) = onto(0.7, 0.1);
-    assert!(c.stops(0, o, d, 1.0), "alpha 1 ≥ 0.5: solid");
+    assert!(c.stops(0, o, d, 1.0, 0), "alpha 1 ≥ 0.5: solid");
     // The cutoff is inclusive (the spec: rendered opaque if alpha ≥ cutoff).
     let mut exact = Fixture::new(ALPHA_MASK, 0.5, false);
-    assert!(exact.cutouts().stops(0, o, d, 1.0));
+    assert!(exact.cutouts().stops(0, o, d, 1.0, 0));
     exact.material_textures[1].alpha = 0.499;
-    assert!(!exact.cutouts().stops(0, o, d, 1.0));
+    assert!(!exact.cutouts().stops(0, o, d, 1.0, 0));
 }
 
 #[test]
@@ -105,11 +105,11 @@ fn opaque_and_untextured_materials_always_stop() {
     let (o, d) = onto(0.2, 0.3);
     let f = Fixture::new(ALPHA_OPAQUE, 0.0, true);
     assert!(!f.cutouts().is_cutout(0));
-    assert!(f.cutouts().stops(0, o, d, 1.0), "OPAQUE ignores alpha");
+    assert!(f.cutouts().stops(0, o, d, 1.0, 0), "OPAQUE ignores alpha");
     let mut bare = Fixture::new(ALPHA_BLEND, 0.0, false);
     bare.materials[1].textures = 0;
-    assert!(bare.cutouts().stops(0, o, d, 1.0), "no textures entry: opaque");
-    assert!(Cutouts::NONE.stops(0, o, d, 1.0));
+    assert!(bare.cutouts().stops(0, o, d, 1.0, 0), "no textures entry: opaque");
+    assert!(Cutouts::NONE.stops(0, o, d, 1.0, 0));
     assert!(!Cutouts::NONE.any());
 }
 
@@ -137,7 +137,8 @@ fn blend_stops_with_probability_the_opacity() {
             let p = o + d * (o.z);
             let a = c.opacity(0, &c.of(0), p) as f64;
             expected += a;
-            stopped += c.stops(0, o, d, o.z) as u32;
+            let key = blend_key(Vec2::new(uniform(), uniform()));
+            stopped += c.stops(0, o, d, o.z, key) as u32;
         }
         let mean = expected / n as f64;
         let sigma = (mean * (1.0 - mean) / n as f64).sqrt().max(1e-9);
@@ -146,25 +147,32 @@ fn blend_stops_with_probability_the_opacity() {
     }
 }
 
-/// The draw is a function of the ray and the triangle: the same query decides the same way
-/// (a re-traced path meets the same surfaces), and two triangles along one ray draw
+/// The draw is a function of the ray's key and the triangle: the same query decides the same
+/// way (a re-traced path meets the same surfaces), and two triangles along one ray draw
 /// independently — the share of rays through two layers of α 0.5 is 1/4, not 1/2 (pbrt-v4's
-/// hash of the ray alone would give 1/2).
+/// hash of the ray alone would give 1/2). Keys from neighbouring uniforms (a small Metropolis
+/// step) draw independently too.
 #[test]
 fn draws_repeat_per_query_and_are_independent_across_triangles() {
-    let (o, d) = (Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.0, 0.6, 0.8));
-    assert_eq!(blend_draw(o, d, 7), blend_draw(o, d, 7));
+    let key = blend_key(Vec2::new(0.25, 0.75));
+    assert_eq!(blend_draw(key, 7), blend_draw(key, 7));
+    assert_eq!(key, blend_key(Vec2::new(0.25, 0.75)));
     let n = 100_000;
-    let mut both_pass = 0;
+    let (mut both_pass, mut neighbours_pass) = (0, 0);
     let mut sum = 0.0f64;
     for i in 0..n {
-        let o = Vec3::new(i as f32 * 1e-3, 0.5, (i % 97) as f32);
-        let (a, b) = (blend_draw(o, d, 3), blend_draw(o, d, 4));
+        let u = Vec2::new(i as f32 / n as f32, 0.5);
+        let key = blend_key(u);
+        let (a, b) = (blend_draw(key, 3), blend_draw(key, 4));
         sum += a as f64;
         both_pass += (a >= 0.5 && b >= 0.5) as u32;
+        let next = blend_draw(blend_key(Vec2::new(f32::from_bits(u.x.to_bits() + 1), 0.5)), 3);
+        neighbours_pass += (a >= 0.5 && next >= 0.5) as u32;
     }
     let mean = sum / n as f64;
     assert!((mean - 0.5).abs() < 4.0 * (1.0 / 12.0 / n as f64).sqrt(), "mean draw {mean}");
-    let share = both_pass as f64 / n as f64;
-    assert!((share - 0.25).abs() < 4.0 * (0.25 * 0.75 / n as f64).sqrt(), "both pass {share}");
+    for (what, count) in [("two layers", both_pass), ("neighbouring keys", neighbours_pass)] {
+        let share = count as f64 / n as f64;
+        assert!((share - 0.25).abs() < 4.0 * (0.25 * 0.75 / n as f64).sqrt(), "{what}: both pass {share}");
+    }
 }

@@ -10,6 +10,7 @@ use glam::Vec3;
 
 use crate::bsdf::{bsdf_eval, bsdf_pdf, Material, Normals};
 use crate::camera::Camera;
+use crate::cutout::blend_key;
 use crate::layout::soa_index;
 use crate::light::{emitted, is_environment, is_punctual, punctual_index};
 use crate::normals::scattering_cosine;
@@ -251,7 +252,8 @@ pub fn connect_candidate<R: RayCaster>(
                 l = pt.throughput() * f_pt * f_qs * qs.throughput() * g;
             }
         }
-        // One shadow ray between the end points.
+        // One shadow ray between the end points; its cut-outs drawn from the connection's own
+        // uniforms (the resampled light point's, unused otherwise for s ≥ 2).
         if l.max_element() > 0.0 {
             let qp = qs.position();
             let from = spawn(qp, qs.normal(), pt.position() - qp, params.epsilon);
@@ -262,7 +264,8 @@ pub fn connect_candidate<R: RayCaster>(
             };
             let dir = target - from;
             let dist = dir.length();
-            if dist > 0.0 && scene.caster.occluded(from, dir / dist, 0.0, dist) {
+            let key = blend_key(samples.get2(u, DIM_CONNECT_POINT));
+            if dist > 0.0 && scene.caster.occluded(from, dir / dist, 0.0, dist, key) {
                 l = Vec3::ZERO;
             }
         }

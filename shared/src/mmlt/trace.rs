@@ -5,6 +5,7 @@ use core::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use crate::bsdf::{bsdf_pdf, bsdf_sample, cosine_hemisphere, medium_coefficient, transmittance};
+use crate::cutout::blend_key;
 use crate::layout::soa_index;
 use crate::light::{is_environment, is_punctual, punctual_index, sample_light, LightPoint, ENVIRONMENT};
 use crate::normals::scattering_cosine;
@@ -73,8 +74,12 @@ fn random_walk<R: RayCaster>(
     } else {
         spawn(first.position(), first.normal(), d, params.epsilon)
     };
+    // The key of the segment's cut-out draws: from the uniforms that chose its direction (the
+    // raster position, the light's direction, then each BSDF sample's).
+    let first = if side == 0 { DIM_RASTER } else { DIM_LIGHT_DIRECTION };
+    let mut key = blend_key(samples.get2(u, first));
     while count < max_vertices {
-        let hit = scene.caster.closest_hit(origin, d, 0.0, crate::triangle::NO_HIT);
+        let hit = scene.caster.closest_hit(origin, d, 0.0, crate::triangle::NO_HIT, key);
         if !hit.found() {
             // A camera subpath that leaves the scene ends on the environment (not from inside
             // a medium): a light vertex at infinity, its forward density the direction's, in
@@ -135,13 +140,8 @@ fn random_walk<R: RayCaster>(
         let wo = -d;
         let bounce = count - 2;
         let radiance = side == 0;
-        let bs = bsdf_sample(
-            &m,
-            normals,
-            wo,
-            samples.get2(u, bounce_dimension(side, bounce, max_depth)),
-            radiance,
-        );
+        let bounce_u = samples.get2(u, bounce_dimension(side, bounce, max_depth));
+        let bs = bsdf_sample(&m, normals, wo, bounce_u, radiance);
         if !(bs.pdf > 0.0) {
             break;
         }
@@ -165,6 +165,7 @@ fn random_walk<R: RayCaster>(
         vertices[soa_index(samples.candidate, vertex_slot(side, count - 2, max_depth), samples.count)] = prev;
         prev = v;
         d = bs.wi;
+        key = blend_key(bounce_u);
         pdf_dir = if bs.delta { 0.0 } else { bs.pdf };
         sigma = medium_coefficient(&m, n, d);
         origin = spawn(p, n, d, params.epsilon);
