@@ -30,7 +30,7 @@ use profile::{profile, Profile, ProfiledBackend};
 use results::{final_row, Row, CSV_HEADER};
 use smlt::gpu::Gpu;
 use smlt::reference::{cached_or_render, ReferenceSettings};
-use smlt::render::{self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, Method, Renderer, Settings};
+use smlt::render::{self, Backend, Budget, Method, MethodChoice, Renderer, Settings};
 use smlt::scene::SceneData;
 
 /// What to measure.
@@ -38,8 +38,8 @@ use smlt::scene::SceneData;
 pub struct BenchSettings {
     /// (scene name, view): generated scenes by name, or glTF paths.
     pub scenes: Vec<(String, u32)>,
-    /// Methods to compare.
-    pub methods: Vec<Method>,
+    /// Methods to compare (`auto`: the method its pilot chooses, the pilot's time counted).
+    pub methods: Vec<MethodChoice>,
     /// Every method's render, but for its method (each takes the integrator its name gives,
     /// with these chain settings), its seed (repeat r uses `seed + r`), its budget (`seconds`)
     /// and, where `candidates` is None, its candidates (by device, as `smlt render`).
@@ -96,11 +96,13 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
     let mut profiles: Vec<Profile> = Vec::new();
     let mut noises: Vec<(String, u32, Option<f64>)> = Vec::new();
     let mut blind = Vec::new();
+    let mut choices = Vec::new();
     for (name, view) in &b.scenes {
         let (label, mut scene, scene_hash) =
             smlt::scenes::open_with_environment(Some(name), b.tessellation, b.environment.as_ref())?;
         scene.select_view(*view)?;
         for m in &b.methods {
+            let MethodChoice::Named(m) = m else { continue };
             if let Some(why) = smlt::render::blind_spot(*m, &scene) {
                 log(&format!("note: {label} v{view}: {why}"));
                 blind.push((label.clone(), *view, m.to_string(), why));
@@ -115,13 +117,13 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
         for repeat in 0..repeats {
             let first = rows.len();
             let run = EqualTime { scene: &scene, label: &label, view: *view, repeat, reference: &reference };
-            let last = equal_time(b, &run, gpu, &mut rows, &mut profiles, &mut log)?;
+            let last = equal_time(b, &run, gpu, &mut rows, &mut profiles, &mut choices, &mut log)?;
             if repeat + 1 == repeats {
                 write_finals(b, (&label, *view), &rows[first..], &last, &reference)?;
             }
         }
     }
-    write_results(b, &rows, &noises, &profiles, &blind)?;
+    write_results(b, &rows, &noises, &profiles, &blind, &choices)?;
     Ok(rows)
 }
 
@@ -175,6 +177,48 @@ fn given_reference(b: &BenchSettings, path: &Path) -> anyhow::Result<Vec<f32>> {
 }
 
 /// One repeat of the equal-time runs on one scene view.
+/// What `auto`'s pilot chose in one repeat of one scene view (`auto.csv`).
+#[derive(Clone, Debug)]
+pub struct AutoChoice {
+    #[allow(missing_docs)]
+    pub scene: String,
+    #[allow(missing_docs)]
+    pub view: u32,
+    #[allow(missing_docs)]
+    pub repeat: u32,
+    #[allow(missing_docs)] // the pilot's outcome
+    pub choice: render::auto::Choice,
+}
+
+impl AutoChoice {
+    /// `auto.csv`'s header.
+    pub const CSV_HEADER: &'static str =
+        "scene,view,repeat,chosen,pilot_seconds,method,pilot_render_seconds,halves_relmse,missing_relmse,predicted_relmse";
+
+    /// One line per candidate.
+    pub fn csv(&self) -> Vec<String> {
+        let c = &self.choice;
+        c.assessments
+            .iter()
+            .map(|a| {
+                format!(
+                    "{},{},{},{},{:.3},{},{:.3},{:.4e},{:.4e},{:.4e}",
+                    self.scene,
+                    self.view,
+                    self.repeat,
+                    c.method,
+                    c.seconds,
+                    a.method,
+                    a.seconds,
+                    a.halves_relmse,
+                    a.missing_relmse,
+                    a.predicted_relmse(c.render_seconds, c.pixels)
+                )
+            })
+            .collect()
+    }
+}
+
 struct EqualTime<'a> {
     scene: &'a SceneData,
     label: &'a str,
@@ -193,19 +237,39 @@ fn equal_time(
     gpu: Option<&Gpu>,
     rows: &mut Vec<Row>,
     profiles: &mut Vec<Profile>,
+    choices: &mut Vec<AutoChoice>,
     log: &mut impl FnMut(&str),
 ) -> anyhow::Result<Vec<Vec<f32>>> {
     let EqualTime { scene, label, view, repeat, reference } = *run;
     let candidates = b.candidates.unwrap_or(render::default_candidates(gpu));
-    let settings: Vec<Settings> = b.methods.iter().map(|&m| b.settings(m, repeat, candidates)).collect();
+    // `auto` first runs its pilot, whose wall time starts its clock (`offsets`), and then renders
+    // as the method it chose.
+    let mut methods = Vec::new();
+    let mut offsets = Vec::new();
+    for m in &b.methods {
+        let (method, offset) = match m {
+            MethodChoice::Named(m) => (*m, 0.0),
+            MethodChoice::Auto => {
+                let s = b.settings(Method::NAIVE, repeat, candidates);
+                let choice =
+                    render::auto::choose(scene, &s, &mut |p| render::new_backend(gpu, scene, p, b.threads))?;
+                log(&format!("auto {label} v{view} repeat {repeat}: chose {}", choice.describe()));
+                choices.push(AutoChoice { scene: label.to_string(), view, repeat, choice: choice.clone() });
+                (choice.method, choice.seconds)
+            }
+        };
+        methods.push(method);
+        offsets.push(offset);
+    }
+    let settings: Vec<Settings> = methods.iter().map(|&m| b.settings(m, repeat, candidates)).collect();
     // One backend per method, all on the same device, kept for the per-pass profile after the
     // equal-time runs.
     let mut backends: Vec<Box<dyn ProfiledBackend + '_>> = Vec::new();
     for s in &settings {
         let params = render::base_params(scene, s);
         backends.push(match gpu {
-            Some(g) => Box::new(GpuBackend::new(g.clone(), scene, &params)?),
-            None => Box::new(CpuBackend::new(scene, &params, b.threads)?),
+            Some(g) => Box::new(render::gpu::GpuBackend::new(g.clone(), scene, &params)?),
+            None => Box::new(render::cpu::CpuBackend::new(scene, &params, b.threads)?),
         });
     }
     let mut renderers: Vec<Renderer> = Vec::new();
@@ -216,7 +280,10 @@ fn equal_time(
     let mut last: Vec<Vec<f32>> = vec![Vec::new(); renderers.len()];
     for t in time_grid(b.seconds) {
         for (i, r) in renderers.iter_mut().enumerate() {
-            while r.stats().render_seconds < t {
+            if offsets[i] >= t {
+                continue; // auto's pilot outlasts this time
+            }
+            while offsets[i] + r.stats().render_seconds < t {
                 r.iterate()?;
             }
             let image = r.snapshot()?;
@@ -226,7 +293,7 @@ fn equal_time(
                 view,
                 method: b.methods[i].to_string(),
                 repeat,
-                seconds: st.render_seconds,
+                seconds: offsets[i] + st.render_seconds,
                 candidates: st.candidates,
                 steps: st.steps,
                 mutations_per_s: st.candidates as f64 / st.render_seconds,
@@ -254,7 +321,9 @@ fn equal_time(
     drop(renderers);
     if repeat == 0 {
         for (i, method) in b.methods.iter().enumerate() {
-            // The profile looks inside the chains' iterations; the path tracer has one pass.
+            // The profile looks inside the chains' iterations; the path tracer has one pass, and
+            // auto's is the profile of the method it chose.
+            let MethodChoice::Named(method) = method else { continue };
             if *method == Method::PathTracer {
                 continue;
             }
@@ -289,7 +358,7 @@ fn write_finals(
             b.render.height,
             &last[i],
         )?;
-        if *m == Method::NAIVE || Some(m.to_string()) == best {
+        if *m == MethodChoice::Named(Method::NAIVE) || Some(m.to_string()) == best {
             heat_map(&last[i], reference, b.render.width, b.render.height, scale)
                 .save(b.out.join(format!("heat_{stem}.png")))?;
         }
@@ -304,14 +373,32 @@ fn write_results(
     noises: &[(String, u32, Option<f64>)],
     profiles: &[Profile],
     blind: &[(String, u32, String, String)],
+    choices: &[AutoChoice],
 ) -> anyhow::Result<()> {
     let csv = |header: String, lines: Vec<String>| lines.iter().fold(header + "\n", |s, l| s + l + "\n");
+    if !choices.is_empty() {
+        let lines = choices.iter().flat_map(AutoChoice::csv).collect();
+        std::fs::write(b.out.join("auto.csv"), csv(AutoChoice::CSV_HEADER.to_string(), lines))?;
+    }
     std::fs::write(
         b.out.join("results.csv"),
         csv(CSV_HEADER.to_string(), rows.iter().map(Row::csv).collect()),
     )?;
-    let methods: Vec<String> = b.methods.iter().map(Method::to_string).collect();
+    let methods: Vec<String> = b.methods.iter().map(MethodChoice::to_string).collect();
     let mut tables = tables::tables(&methods, b.seconds, rows, blind);
+    if !choices.is_empty() {
+        tables.push_str("### What auto chose (its pilot's estimates: auto.csv)\n\n| scene view | repeat | chose |\n|---|---|---|\n");
+        for c in choices {
+            tables.push_str(&format!(
+                "| {} v{} | {} | {} |\n",
+                c.scene,
+                c.view,
+                c.repeat,
+                c.choice.describe()
+            ));
+        }
+        tables.push('\n');
+    }
     tables.push_str(&tables::reference_table(b, rows, noises));
     if !profiles.is_empty() {
         std::fs::write(

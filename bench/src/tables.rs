@@ -174,7 +174,7 @@ mod tests {
     fn the_reference_table_names_an_external_reference() {
         let mut b = BenchSettings {
             scenes: vec![("cornell".into(), 1)],
-            methods: vec![Method::NAIVE],
+            methods: vec![smlt::render::MethodChoice::Named(Method::NAIVE)],
             render: smlt::render::Settings { width: 4, height: 4, max_depth: 3, ..Default::default() },
             seconds: 2.0,
             reference_spp: 512,

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::args::{positive_f64, ChainArgs, DeviceArgs, EnvironmentArgs, PathArgs};
-use smlt::render::{Integrator, Method, Settings};
+use smlt::render::{Integrator, Method, MethodChoice, Settings};
 
 /// A scene with an optional view: `atrium:2`.
 fn scene_view(s: &str) -> Result<(String, u32), String> {
@@ -25,9 +25,9 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', default_value = "cornell,atrium:1,atrium:2,nave,sunblind", value_parser = scene_view)]
     pub scenes: Vec<(String, u32)>,
     /// Methods, comma-separated (pt: the path tracer; path-<method>: the chains over the path
-    /// tracer's estimate).
-    #[arg(long, value_delimiter = ',', default_value = "pt,naive,path-naive,s2,s3,s4,s5,s6,rc2,rc4,rc8,rc16,rc32,rc64", value_parser = |s: &str| s.parse::<Method>())]
-    pub methods: Vec<Method>,
+    /// tracer's estimate; auto: the method its pilot chooses, the pilot's time counted).
+    #[arg(long, value_delimiter = ',', default_value = "auto,pt,naive,path-naive,s2,s3,s4,s5,s6,rc2,rc4,rc8,rc16,rc32,rc64", value_parser = |s: &str| s.parse::<MethodChoice>())]
+    pub methods: Vec<MethodChoice>,
     /// Render seconds per method (errors are also measured at 1, 2, 4, … s).
     #[arg(long, default_value_t = 8.0, value_parser = positive_f64)]
     pub seconds: f64,

@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::args::{exposure, positive_f64, ChainArgs, DeviceArgs, ImageArgs, PathArgs, SceneArgs};
 use smlt::output::Exposure;
-use smlt::render::{self, Budget, Integrator, Method, Settings, Shard};
+use smlt::render::{self, Budget, Integrator, Method, MethodChoice, Settings, Shard};
 
 /// `smlt render`'s flags.
 #[derive(clap::Args)]
@@ -19,11 +19,13 @@ pub struct Args {
     #[command(flatten)]
     #[allow(missing_docs)] // flattened: documented on SceneArgs
     pub scene: SceneArgs,
-    /// pt (the path tracer), naive, s<d> (speculative tree of depth d = 1..8; s1 is naive), or
-    /// rc<l> (reject chain of l = 2..64 proposals); path-naive, path-s<d>, path-rc<l>: the same
-    /// chains over the path tracer's estimate instead of the paper's multiplexed paths.
-    #[arg(long, default_value = "naive", value_parser = |s: &str| s.parse::<Method>())]
-    pub method: Method,
+    /// auto (chosen for the view by a short pilot of pt, naive and path-naive; the summary says
+    /// which and why), pt (the path tracer), naive, s<d> (speculative tree of depth d = 1..8; s1
+    /// is naive), or rc<l> (reject chain of l = 2..64 proposals); path-naive, path-s<d>,
+    /// path-rc<l>: the same chains over the path tracer's estimate instead of the paper's
+    /// multiplexed paths.
+    #[arg(long, default_value = "auto", value_parser = |s: &str| s.parse::<MethodChoice>())]
+    pub method: MethodChoice,
     /// Stop after this many seconds of iterations (after the bootstrap).
     #[arg(long, value_parser = positive_f64, conflicts_with = "mutations_per_pixel", allow_negative_numbers = true)]
     pub time: Option<f64>,
@@ -136,16 +138,41 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     let device = a.device.open()?;
     let why = device.why.clone();
-    let settings = Settings {
+    let mut settings = Settings {
         width: a.image.width,
         height: a.image.height(&scene),
         max_depth: a.path.max_depth,
         seed: a.path.seed,
-        integrator: Integrator::new(a.method, a.chains.settings()),
+        integrator: Integrator::new(
+            match a.method {
+                MethodChoice::Named(m) => m,
+                MethodChoice::Auto => Method::NAIVE,
+            },
+            a.chains.settings(),
+        ),
         budget,
         candidates: a.candidates.unwrap_or(render::default_candidates(device.gpu.as_ref())),
         shard: a.shard.unwrap_or(Shard::WHOLE),
     };
+    // What a part file records: the user's budget (auto's render has what its pilot left).
+    let asked = settings.clone();
+    let mut chosen = None;
+    if a.method == MethodChoice::Auto {
+        let (gpu, threads) = (device.gpu.as_ref(), device.threads);
+        let candidates: Vec<String> = render::auto::CANDIDATES.iter().map(|m| m.to_string()).collect();
+        let spinner = ProgressBar::new_spinner();
+        spinner.set_message(format!("auto: a pilot of {} on the view", candidates.join(", ")));
+        spinner.enable_steady_tick(std::time::Duration::from_millis(120));
+        let choice =
+            render::auto::choose(&scene, &settings, &mut |p| render::new_backend(gpu, &scene, p, threads));
+        spinner.finish_and_clear();
+        let choice = choice?;
+        settings = Settings {
+            budget: render::auto::remaining_budget(settings.budget, choice.seconds),
+            ..settings.with_method(choice.method)
+        };
+        chosen = Some(choice);
+    }
     if settings.metropolis().is_some() && settings.shard.count > settings.chains() {
         anyhow::bail!(
             "--shard {}: the render has only {} chains to split; use at most {} shards or more --candidates",
@@ -156,11 +183,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     let params = render::base_params(&scene, &settings);
     let on_device = device.gpu.is_some();
-    let mut backend: Box<dyn render::Backend + '_> = match device.gpu {
-        Some(gpu) => Box::new(render::gpu::GpuBackend::new(gpu, &scene, &params)?),
-        None => Box::new(render::cpu::CpuBackend::new(&scene, &params, device.threads)?),
-    };
+    let mut backend = render::new_backend(device.gpu.as_ref(), &scene, &params, device.threads)?;
     println!("device: {} — {why}", backend.describe());
+    if let Some(choice) = &chosen {
+        println!("auto: chose {}", choice.describe());
+    }
     let buffers_mib = smlt::passes::buffers::device_bytes(&scene, &params) as f64 / 1048576.0;
     let work = match settings.integrator {
         Integrator::PathTracer => format!(
@@ -225,7 +252,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let written = match a.shard {
         Some(shard) => {
-            let identity = smlt::part::Identity::new(&scene.name, &scene_hash, a.scene.view, &settings);
+            let recorded = Settings { budget: asked.budget, ..settings.clone() };
+            let identity = smlt::part::Identity::new(&scene.name, &scene_hash, a.scene.view, &recorded);
             smlt::part::write_part(&out, &identity, shard, &result, &backend.describe())?;
             format!("part {shard}: {} (combine the parts with smlt merge)", out.display())
         }
@@ -245,6 +273,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             )
         }
     };
+    if let Some(choice) = &chosen {
+        println!(
+            "method               {} (chosen by auto; its pilot {:.2} s)",
+            choice.method, choice.seconds
+        );
+    }
     print_summary(&result, &settings);
     if on_device {
         println!("device buffers       {buffers_mib:.1} MiB");

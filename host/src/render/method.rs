@@ -71,7 +71,7 @@ impl std::fmt::Display for Schedule {
 
 /// What every method's name error ends with.
 const METHODS: &str =
-    "use pt, naive, s<d> (d in 1..=8) or rc<l> (l in 2..=64), the last three also as path-<method>";
+    "use auto, pt, naive, s<d> (d in 1..=8) or rc<l> (l in 2..=64), the last three also as path-<method>";
 
 impl FromStr for Schedule {
     type Err = String;
@@ -162,6 +162,35 @@ impl FromStr for Method {
     }
 }
 
+/// `--method` as the command line takes it: `auto`, chosen for the view by a pilot
+/// (`super::auto`), or a [`Method`] named.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodChoice {
+    /// Chosen by the pilot.
+    Auto,
+    /// The method named.
+    Named(Method),
+}
+
+impl std::fmt::Display for MethodChoice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MethodChoice::Auto => write!(f, "auto"),
+            MethodChoice::Named(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+impl FromStr for MethodChoice {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s == "auto" {
+            return Ok(MethodChoice::Auto);
+        }
+        s.parse().map(MethodChoice::Named)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -209,6 +238,16 @@ mod tests {
         // The user's own word is named back.
         let e = "path-foo".parse::<Method>().unwrap_err();
         assert!(e.starts_with("'path-foo' is not a method") && e.contains("path-<method>"), "{e}");
+    }
+
+    #[test]
+    fn auto_or_a_method_named() {
+        assert_eq!("auto".parse::<MethodChoice>(), Ok(MethodChoice::Auto));
+        assert_eq!("path-s3".parse::<MethodChoice>().unwrap().to_string(), "path-s3");
+        assert_eq!("pt".parse::<MethodChoice>(), Ok(MethodChoice::Named(Method::PathTracer)));
+        assert!("auto".parse::<Method>().is_err(), "auto is no method of its own");
+        let e = "Auto".parse::<MethodChoice>().unwrap_err();
+        assert!(e.starts_with("'Auto' is not a method: use auto, pt"), "{e}");
     }
 
     #[test]

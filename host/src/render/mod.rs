@@ -3,6 +3,7 @@
 //! mergeable [`Accumulation`] that a render, a shard or a thread group produces.
 
 pub mod accumulation;
+pub mod auto;
 pub mod blind_spot;
 pub mod bootstrap;
 pub mod cpu;
@@ -16,7 +17,7 @@ pub mod settings;
 pub use accumulation::Accumulation;
 pub use blind_spot::blind_spot;
 pub use estimator::Estimator;
-pub use method::{Method, Schedule};
+pub use method::{Method, MethodChoice, Schedule};
 pub use renderer::{normalisation, render, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};
 pub use settings::{
     base_params, default_candidates, path_params, path_tracer_params, Budget, ChainSettings, Integrator,
@@ -43,6 +44,20 @@ pub enum RenderError {
     /// The CPU backend's threads could not be started.
     #[error("cannot start the CPU threads: {0}")]
     Threads(String),
+}
+
+/// A backend for a render with `params` of `scene`: the kernels on `gpu`, or on `threads` CPU
+/// threads where there is none.
+pub fn new_backend<'a>(
+    gpu: Option<&crate::gpu::Gpu>,
+    scene: &'a crate::scene::SceneData,
+    params: &RenderParams,
+    threads: usize,
+) -> Result<Box<dyn Backend + 'a>, RenderError> {
+    Ok(match gpu {
+        Some(g) => Box::new(gpu::GpuBackend::new(g.clone(), scene, params)?),
+        None => Box::new(cpu::CpuBackend::new(scene, params, threads)?),
+    })
 }
 
 /// Where the passes run: the same kernels on the device or on CPU threads — the five stages

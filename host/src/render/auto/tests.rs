@@ -1,0 +1,200 @@
+use super::*;
+
+/// Normal deviates (xorshift and Box–Muller): the tests' noise.
+struct Noise(u64);
+
+impl Noise {
+    fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+
+    fn normal(&mut self) -> f64 {
+        let (u, v) = (self.uniform(), self.uniform());
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+}
+
+/// A synthetic candidate: two halves of `truth − missing` with independent normal noise of
+/// standard deviation `sigma` (each half's), rendered in `seconds`.
+fn run(
+    method: Method,
+    truth: &[f64],
+    missing: &[f64],
+    sigma: f64,
+    seconds: f64,
+    noise: &mut Noise,
+) -> PilotRun {
+    let mut half =
+        || truth.iter().zip(missing).map(|(r, m)| (r - m + sigma * noise.normal()) as f32).collect();
+    PilotRun { method, halves: [half(), half()], seconds }
+}
+
+/// The relMSE of a candidate's mean as `run` makes it against relMSE's denominator from
+/// `average` (the pilot's reference): its bias² plus half a half's variance.
+fn exact_against(truth: &[f64], missing: &[f64], sigma: f64, average: &[f64]) -> f64 {
+    truth
+        .iter()
+        .zip(missing)
+        .zip(average)
+        .map(|((_, m), a)| (m * m + sigma * sigma / 2.0) / (a * a + RELMSE_FLOOR))
+        .sum::<f64>()
+        / truth.len() as f64
+}
+
+fn truth(n: usize, noise: &mut Noise) -> Vec<f64> {
+    (0..n).map(|_| 0.05 + noise.uniform()).collect()
+}
+
+const PT: Method = CANDIDATES[0];
+const NAIVE: Method = CANDIDATES[1];
+const PATH_NAIVE: Method = CANDIDATES[2];
+
+/// Unbiased candidates: the halves recover each one's relMSE (within 5 %), hardly any light is found
+/// missing (under 2 % of the noisiest candidate's variance: the reference's own noise in the
+/// denominators leaves about 1 % of it), and the one predicted best after a second is chosen — here the
+/// noisier one that runs eight times faster.
+#[test]
+fn unbiased_candidates_are_weighed_by_their_noise_and_time() {
+    let mut noise = Noise(0x5eed);
+    let n = 60_000;
+    let r = truth(n, &mut noise);
+    let none = vec![0.0; n];
+    let runs = [
+        run(PT, &r, &none, 0.10, 1.0, &mut noise),
+        run(NAIVE, &r, &none, 0.05, 8.0, &mut noise),
+        run(PATH_NAIVE, &r, &none, 0.30, 1.0, &mut noise),
+    ];
+    let assessed = assess(&runs);
+    let average = reference(&runs);
+    let noisiest = assessed.iter().map(|a| a.halves_relmse).fold(0.0, f64::max);
+    for (a, sigma) in assessed.iter().zip([0.10, 0.05, 0.30]) {
+        let want = exact_against(&r, &none, sigma, &average);
+        assert!(
+            (a.halves_relmse / want - 1.0).abs() < 0.05,
+            "{}: halves {} vs {want}",
+            a.method,
+            a.halves_relmse
+        );
+        assert!(a.missing_relmse < 0.02 * noisiest, "{}: missing {}", a.method, a.missing_relmse);
+    }
+    // Predicted relMSE after 1 s ∝ σ² t: pt 0.01, naive 0.02, path-naive 0.09.
+    assert_eq!(most_efficient(&assessed, 1.0, 1.0), PT);
+}
+
+/// The heavy-tail guard: a candidate that misses some light (a path tracer's short pilot that
+/// has met no caustic path: its halves agree, both missing it) looks best by its own halves; the
+/// light it misses against the others recovers its squared bias (within 10 %), the unbiased
+/// candidates are not blamed for it, and an unbiased one is chosen. Also where two of the three
+/// miss it (a point lamp's caustic through glass, which neither the path tracer nor the path
+/// estimator renders): the one that holds the light is chosen.
+#[test]
+fn a_candidate_missing_light_is_caught_by_the_others() {
+    let mut noise = Noise(0xca05);
+    let n = 60_000;
+    let r = truth(n, &mut noise);
+    let none = vec![0.0; n];
+    // A caustic: a tenth of the values hold 0.5 more light that the first candidate misses.
+    let caustic: Vec<f64> = (0..n).map(|j| if j % 10 == 0 { 0.5 } else { 0.0 }).collect();
+    let r_lit: Vec<f64> = r.iter().zip(&caustic).map(|(a, c)| a + c).collect();
+    for missed_by in [1, 2] {
+        let missing = |k: usize| if k < missed_by { &caustic } else { &none };
+        let sigmas = [0.02, 0.10, 0.15];
+        let runs: Vec<PilotRun> =
+            (0..3).map(|k| run(CANDIDATES[k], &r_lit, missing(k), sigmas[k], 1.0, &mut noise)).collect();
+        let assessed = assess(&runs);
+        let average = reference(&runs);
+        for (k, a) in assessed.iter().enumerate() {
+            if k < missed_by {
+                assert!(a.halves_relmse < assessed[2].halves_relmse, "by its halves alone it would win");
+                let bias = exact_against(&r_lit, missing(k), 0.0, &average);
+                assert!(
+                    (a.missing_relmse / bias - 1.0).abs() < 0.1,
+                    "{}: missing {} vs {bias}",
+                    a.method,
+                    a.missing_relmse
+                );
+            } else {
+                let noisiest = assessed.iter().map(|a| a.halves_relmse).fold(0.0, f64::max);
+                assert!(a.missing_relmse < 0.02 * noisiest, "{}: missing {}", a.method, a.missing_relmse);
+            }
+        }
+        let chosen = most_efficient(&assessed, 1.0, 1.0);
+        assert_eq!(chosen, if missed_by == 1 { NAIVE } else { PATH_NAIVE }, "{assessed:?}");
+        let line = Choice {
+            method: chosen,
+            assessments: assessed,
+            seconds: 3.0,
+            width: 4,
+            height: 4,
+            render_seconds: 1.0,
+            pixels: 1.0,
+        }
+        .describe();
+        assert!(line.starts_with(&format!("{chosen} (pilot 3.00 s at 4×4")), "{line}");
+        assert_eq!(line.matches("missing light").count(), missed_by, "{line}");
+    }
+}
+
+/// A candidate with no estimate (black pilot images everywhere) never wins; with none at all,
+/// the paper's naive chains.
+#[test]
+fn black_pilots_fall_back_to_naive() {
+    let black = |method| PilotRun { method, halves: [vec![0.0; 12], vec![0.0; 12]], seconds: 1.0 };
+    let assessed = assess(&[black(PT), black(NAIVE), black(PATH_NAIVE)]);
+    assert_eq!(most_efficient(&assessed, 1.0, 1.0), Method::NAIVE);
+    let mut lit = black(PATH_NAIVE);
+    lit.halves = [vec![0.5; 12], vec![0.6; 12]];
+    let assessed = assess(&[black(PT), black(NAIVE), lit]);
+    assert_eq!(most_efficient(&assessed, 1.0, 1.0), PATH_NAIVE, "{assessed:?}");
+}
+
+/// The pilot's settings: at most PILOT_WIDTH wide with the aspect kept, its own seeds (two a
+/// candidate, none the render's), the whole chains, the budget given; the budgets' shares.
+#[test]
+fn pilot_settings_and_budgets() {
+    let s = Settings {
+        width: 1920,
+        height: 1080,
+        seed: 7,
+        shard: Shard { index: 2, count: 4 },
+        ..Settings::default()
+    };
+    let mut seeds = std::collections::HashSet::from([s.seed]);
+    for m in CANDIDATES {
+        for half in 0..2 {
+            let p = pilot_settings(&s, m, half, Budget::Seconds(1.0));
+            assert_eq!((p.width, p.height, p.shard, p.method()), (128, 72, Shard::WHOLE, m));
+            assert!(seeds.insert(p.seed), "seed {} repeats", p.seed);
+        }
+    }
+    let small = Settings { width: 64, height: 48, ..s.clone() };
+    assert_eq!(pilot_settings(&small, PT, 0, Budget::Seconds(1.0)).width, 64);
+    assert_eq!(pilot_budget(Budget::Seconds(60.0)), Budget::Seconds(1.0));
+    assert_eq!(pilot_budget(Budget::Seconds(1.0)), Budget::Seconds(0.6 / 6.0));
+    assert_eq!(pilot_budget(Budget::MutationsPerPixel(64.0)), Budget::MutationsPerPixel(8.0));
+    assert_eq!(remaining_budget(Budget::Seconds(60.0), 6.5), Budget::Seconds(53.5));
+    assert_eq!(remaining_budget(Budget::Seconds(4.0), 3.5), Budget::Seconds(1.0));
+    assert_eq!(remaining_budget(Budget::MutationsPerPixel(64.0), 3.0), Budget::MutationsPerPixel(64.0));
+}
+
+/// The prediction weighs the light missing against the render ahead: a candidate with little
+/// noise that misses a little light is the better choice for a short render and the worse for
+/// a long one (its variance shrinks, the light it misses stays), and for a large image the
+/// less noisy one gains (fewer samples a pixel).
+#[test]
+fn missing_light_counts_more_the_longer_the_render() {
+    let a = |method, halves_relmse, missing_relmse| Assessment {
+        method,
+        seconds: 1.0,
+        halves_relmse,
+        missing_relmse,
+    };
+    let assessed = [a(PT, 0.01, 0.001), a(NAIVE, 0.04, 0.0)];
+    assert_eq!(most_efficient(&assessed, 1.0, 1.0), PT, "0.011 against 0.04");
+    assert_eq!(most_efficient(&assessed, 100.0, 1.0), NAIVE, "0.0011 against 0.0004");
+    assert_eq!(most_efficient(&assessed, 100.0, 100.0), PT, "0.011 against 0.04");
+    assert!((assessed[0].predicted_relmse(10.0, 4.0) - (0.01 * 0.4 + 0.001)).abs() < 1e-12);
+}
