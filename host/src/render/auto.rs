@@ -182,33 +182,76 @@ pub fn reference(runs: &[PilotRun]) -> Vec<f64> {
 /// (all the same size), per value j (a pixel's channel), with I, V as [`means_and_variances`]
 /// and R the pilot's [`reference`]:
 /// - the halves' estimate mean_j V_j / (R_j² + 0.01);
-/// - the light it misses: the largest over the other runs o of
-///   mean_j (max(0, I_o,j − I_j)² − (V_o,j + V_j)/2) / (R_j² + 0.01) (at least 0): where the two
-///   agree in expectation, the difference's positive part has half its variance (for noise
-///   symmetric about 0), so the sum estimates the squared light missing. Every candidate is
+/// - the light it misses: the largest over the other runs o of the mean over [`BLOCK`]² pixel
+///   blocks b (each channel, each block weighted by its values) of
+///   (max(0, D_b)² − Var(D_b)/2) / (R_b² + 0.01), with D_b the block's mean of I_o − I, its
+///   variance from the halves Σ_b (V_o + V) / |b|², and R_b the block's mean reference (at
+///   least 0): where the two agree in expectation, the difference's positive part has half its
+///   variance (for noise symmetric about 0), so the sum estimates the squared light missing.
+///   Over a block, not a pixel: a pixel of a short pilot has a few samples, and their
+///   distribution is skewed (mostly dim, now and then bright), which would read as light
+///   missing; a block's mean of many is nearly symmetric. Every candidate is
 ///   unbiased and every contribution non-negative, so a short pilot's heavy tail shows as light
 ///   missing — an image darker than another's by more than their noise — never as light in
 ///   excess. (Another run's firefly is held half against this one; its own halves hold it whole
 ///   against it. The reference's own noise, correlated with the images compared, leaves a bias
 ///   of about 1 % of the noisier image's variance, `tests`.)
-pub fn assess(runs: &[PilotRun]) -> Vec<Assessment> {
+pub fn assess(runs: &[PilotRun], width: u32) -> Vec<Assessment> {
     let (mean, variance) = means_and_variances(runs);
     let r = reference(runs);
+    let blocks = blocks(r.len(), width);
     (0..runs.len())
         .map(|k| {
             let halves_relmse = relative(variance[k].iter().copied(), &r);
             let missing_relmse = (0..runs.len())
                 .filter(|o| *o != k)
                 .map(|o| {
-                    let excess = (0..r.len()).map(|j| {
-                        (mean[o][j] - mean[k][j]).max(0.0).powi(2) - 0.5 * (variance[o][j] + variance[k][j])
-                    });
-                    relative(excess, &r)
+                    // Over each block: the mean difference, the variance of that mean, the
+                    // reference's mean; each block's term counts for its values.
+                    let sum: f64 = blocks
+                        .iter()
+                        .map(|values| {
+                            let m = values.len() as f64;
+                            let d = values.iter().map(|&j| mean[o][j] - mean[k][j]).sum::<f64>() / m;
+                            let v = values.iter().map(|&j| variance[o][j] + variance[k][j]).sum::<f64>()
+                                / (m * m);
+                            let rb = values.iter().map(|&j| r[j]).sum::<f64>() / m;
+                            m * (d.max(0.0).powi(2) - 0.5 * v) / (rb * rb + RELMSE_FLOOR)
+                        })
+                        .sum();
+                    sum / r.len().max(1) as f64
                 })
                 .fold(0.0, f64::max);
             Assessment { method: runs[k].method, seconds: runs[k].seconds, halves_relmse, missing_relmse }
         })
         .collect()
+}
+
+/// The side of the square blocks of pixels over which [`assess`] compares the candidates' images.
+pub const BLOCK: u32 = 4;
+
+/// The values (indices into linear rgb of `values` values, `width` pixels a row) of each
+/// [`BLOCK`] × [`BLOCK`] block of pixels, a list per block and channel (the edges' blocks
+/// smaller).
+fn blocks(values: usize, width: u32) -> Vec<Vec<usize>> {
+    let width = width.max(1) as usize;
+    let height = (values / 3).div_ceil(width);
+    let b = BLOCK as usize;
+    let mut out = Vec::new();
+    for by in (0..height).step_by(b) {
+        for bx in (0..width).step_by(b) {
+            for c in 0..3 {
+                let block: Vec<usize> = (by..(by + b).min(height))
+                    .flat_map(|y| (bx..(bx + b).min(width)).map(move |x| 3 * (y * width + x) + c))
+                    .filter(|&j| j < values)
+                    .collect();
+                if !block.is_empty() {
+                    out.push(block);
+                }
+            }
+        }
+    }
+    out
 }
 
 /// The candidate of `assessments` predicted to reach the least relMSE in a render of `seconds`
@@ -292,7 +335,7 @@ pub fn choose<'a>(
         }
         runs.push(PilotRun { method, halves, seconds });
     }
-    let assessments = assess(&runs);
+    let assessments = assess(&runs, size.0);
     let seconds = begin.elapsed().as_secs_f64() - compile;
     let pixels = (s.width as f64 * s.height as f64) / (size.0 as f64 * size.1 as f64);
     // A `--mutations-per-pixel` render's seconds: the candidates' pilot halves' mean, scaled

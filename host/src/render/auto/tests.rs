@@ -44,9 +44,21 @@ fn exact_against(truth: &[f64], missing: &[f64], sigma: f64, average: &[f64]) ->
         / truth.len() as f64
 }
 
+/// A synthetic image of `n` values, WIDTH pixels a row: a random value in [0.05, 1.05] for each
+/// 4 × 4 block of pixels and channel (an image is smooth over a few pixels; its edges are not
+/// what the tests are about).
 fn truth(n: usize, noise: &mut Noise) -> Vec<f64> {
-    (0..n).map(|_| 0.05 + noise.uniform()).collect()
+    let blocks: Vec<f64> = (0..n).map(|_| 0.05 + noise.uniform()).collect();
+    (0..n)
+        .map(|j| {
+            let (x, y, c) = ((j / 3) % WIDTH as usize, (j / 3) / WIDTH as usize, j % 3);
+            blocks[3 * ((y / 4) * WIDTH as usize + x / 4) + c]
+        })
+        .collect()
 }
+
+/// The synthetic images' width (60 000 values: 200 × 100 pixels of rgb).
+const WIDTH: u32 = 200;
 
 const PT: Method = CANDIDATES[0];
 const NAIVE: Method = CANDIDATES[1];
@@ -67,7 +79,7 @@ fn unbiased_candidates_are_weighed_by_their_noise_and_time() {
         run(NAIVE, &r, &none, 0.05, 8.0, &mut noise),
         run(PATH_NAIVE, &r, &none, 0.30, 1.0, &mut noise),
     ];
-    let assessed = assess(&runs);
+    let assessed = assess(&runs, WIDTH);
     let average = reference(&runs);
     let noisiest = assessed.iter().map(|a| a.halves_relmse).fold(0.0, f64::max);
     for (a, sigma) in assessed.iter().zip([0.10, 0.05, 0.30]) {
@@ -97,14 +109,24 @@ fn a_candidate_missing_light_is_caught_by_the_others() {
     let r = truth(n, &mut noise);
     let none = vec![0.0; n];
     // A caustic: a tenth of the values hold 0.5 more light that the first candidate misses.
-    let caustic: Vec<f64> = (0..n).map(|j| if j % 10 == 0 { 0.5 } else { 0.0 }).collect();
+    // (Whole blocks of 4 × 4 pixels: a tenth of them.)
+    let caustic: Vec<f64> = (0..n)
+        .map(|j| {
+            let (x, y) = ((j / 3) % WIDTH as usize, (j / 3) / WIDTH as usize);
+            if (x / 4 + y / 4) % 10 == 0 {
+                0.5
+            } else {
+                0.0
+            }
+        })
+        .collect();
     let r_lit: Vec<f64> = r.iter().zip(&caustic).map(|(a, c)| a + c).collect();
     for missed_by in [1, 2] {
         let missing = |k: usize| if k < missed_by { &caustic } else { &none };
         let sigmas = [0.02, 0.10, 0.15];
         let runs: Vec<PilotRun> =
             (0..3).map(|k| run(CANDIDATES[k], &r_lit, missing(k), sigmas[k], 1.0, &mut noise)).collect();
-        let assessed = assess(&runs);
+        let assessed = assess(&runs, WIDTH);
         let average = reference(&runs);
         for (k, a) in assessed.iter().enumerate() {
             if k < missed_by {
@@ -143,11 +165,11 @@ fn a_candidate_missing_light_is_caught_by_the_others() {
 #[test]
 fn black_pilots_fall_back_to_naive() {
     let black = |method| PilotRun { method, halves: [vec![0.0; 12], vec![0.0; 12]], seconds: 1.0 };
-    let assessed = assess(&[black(PT), black(NAIVE), black(PATH_NAIVE)]);
+    let assessed = assess(&[black(PT), black(NAIVE), black(PATH_NAIVE)], 2);
     assert_eq!(most_efficient(&assessed, 1.0, 1.0), Method::NAIVE);
     let mut lit = black(PATH_NAIVE);
     lit.halves = [vec![0.5; 12], vec![0.6; 12]];
-    let assessed = assess(&[black(PT), black(NAIVE), lit]);
+    let assessed = assess(&[black(PT), black(NAIVE), lit], 2);
     assert_eq!(most_efficient(&assessed, 1.0, 1.0), PATH_NAIVE, "{assessed:?}");
 }
 
