@@ -654,6 +654,69 @@ fn shards_merge_into_the_unsplit_image() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `--method auto` on shards: each shard's pilot chooses for itself and its part records that
+/// auto chose. Parts that chose alike merge into the unsplit render of the chosen method; parts
+/// whose methods differ (a pilot is timed, so shards on different machines may choose
+/// differently) are refused in one line that names both methods and the way out, and a shard
+/// rendered again with the others' method then merges.
+#[test]
+fn sharded_auto_renders_merge_or_say_what_to_render_again() {
+    let dir = temp_dir("auto-shards");
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let base = [
+        "render",
+        "--device",
+        "cpu",
+        "--width",
+        "10",
+        "--height",
+        "6",
+        "--mutations-per-pixel",
+        "16",
+        "--bootstrap",
+        "4096",
+        "--candidates",
+        "600",
+    ];
+    let render = |extra: &[&str]| -> String {
+        let (ok, stdout, stderr) = smlt(&[&base[..], extra].concat());
+        assert!(ok, "{extra:?}: {stdout}{stderr}");
+        stdout
+    };
+    let chosen = |stdout: &str| -> String {
+        let line = stdout.lines().find(|l| l.starts_with("auto: chose ")).expect("auto's line");
+        line.split_whitespace().nth(2).unwrap().to_string()
+    };
+    let merge = || smlt(&["merge", &path("part1.exr"), &path("part2.exr"), "--out", &path("merged.exr")]);
+    let first = chosen(&render(&["--shard", "1/2", "--out", &path("part1.exr")]));
+    let second = chosen(&render(&["--shard", "2/2", "--out", &path("part2.exr")]));
+    if first == second {
+        let (ok, stdout, stderr) = merge();
+        assert!(ok && stdout.contains("merged"), "{stdout}{stderr}");
+    }
+    // Shard 2 with another method: refused, naming both and what to render again.
+    let other = if first == "pt" { "naive" } else { "pt" };
+    render(&["--method", other, "--shard", "2/2", "--out", &path("part2.exr")]);
+    let (ok, _, stderr) = merge();
+    let said = format!(
+        "method {first} vs {other}, chosen by --method auto on each shard: render the shards again with \
+         --method {first} or --method {other}, the same on all"
+    );
+    assert!(!ok && stderr.contains(&said) && stderr.lines().count() == 1, "{stderr}");
+    // Shard 2 again with shard 1's choice: the parts merge into the unsplit render of it.
+    render(&["--method", &first, "--shard", "2/2", "--out", &path("part2.exr")]);
+    let _ = std::fs::remove_file(dir.join("merged.exr"));
+    let (ok, stdout, stderr) = merge();
+    assert!(ok && stdout.contains("merged"), "{stdout}{stderr}");
+    render(&["--method", &first, "--out", &path("whole.exr")]);
+    let (_, _, whole) = smlt::output::read_exr(&dir.join("whole.exr")).unwrap();
+    let (_, _, merged) = smlt::output::read_exr(&dir.join("merged.exr")).unwrap();
+    for (a, b) in whole.iter().zip(&merged) {
+        assert!((a - b).abs() <= 1e-6 * a.abs().max(1e-3), "{first}: whole {a} vs merged {b}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `render --method pt` is the reference's estimator as a method: at the same seed and samples
 /// it writes the image `smlt reference` writes, and its shards (which take the rounds in
 /// turns) merge into the unsplit image; its summary counts paths, not chains.

@@ -43,6 +43,11 @@ pub struct Identity {
     pub smlt_version: String,
     /// The content hash of the kernels module it ran (`crate::hash`).
     pub kernels: String,
+    /// Whether `--method auto` chose the method, by a pilot on this shard's machine (each
+    /// shard runs its own, so shards can choose differently; a merge then says which to render
+    /// again).
+    #[serde(default)]
+    pub chosen_by_auto: bool,
 }
 
 impl Identity {
@@ -55,7 +60,13 @@ impl Identity {
             settings: Settings { shard: Shard { index: 1, ..s.shard }, ..s.clone() },
             smlt_version: env!("CARGO_PKG_VERSION").to_string(),
             kernels: crate::hash::content_hash(crate::gpu::KERNELS_SPV),
+            chosen_by_auto: false,
         }
+    }
+
+    /// The identity as that of a render whose method `--method auto` chose.
+    pub fn chosen_by_auto(self) -> Self {
+        Identity { chosen_by_auto: true, ..self }
     }
 
     /// Whether a render could have this identity: its method is one the command line names (a
@@ -76,10 +87,19 @@ impl Identity {
     /// for a setting), walking every field of both.
     pub fn difference(&self, other: &Identity) -> Option<String> {
         let (a, b) = (self.settings.method(), other.settings.method());
+        if a != b && (self.chosen_by_auto || other.chosen_by_auto) {
+            return Some(format!(
+                "method {a} vs {b}, chosen by --method auto on each shard: render the shards again \
+                 with --method {a} or --method {b}, the same on all"
+            ));
+        }
         if a != b {
             return Some(format!("method {a} vs {b}"));
         }
-        match (serde_json::to_value(self), serde_json::to_value(other)) {
+        // How the method was chosen is no difference: a shard rendered again with the method
+        // auto chose elsewhere belongs with the others.
+        let value = |id: &Identity| serde_json::to_value(Identity { chosen_by_auto: false, ..id.clone() });
+        match (value(self), value(other)) {
             (Ok(a), Ok(b)) => first_difference("", &a, &b),
             _ => Some("their identities cannot be compared".to_string()),
         }
@@ -492,6 +512,14 @@ mod tests {
         // Another method is named as such.
         let other = Identity { settings: id.settings.clone().with_method(Method::PathTracer), ..identity() };
         assert_eq!(identity().difference(&other).as_deref(), Some("method path-s3 vs pt"));
+        // Where auto chose on each shard, the merge says what to render again.
+        let said = identity().chosen_by_auto().difference(&other.chosen_by_auto()).unwrap();
+        assert!(said.starts_with("method path-s3 vs pt, chosen by --method auto"), "{said}");
+        assert!(said.ends_with("with --method path-s3 or --method pt, the same on all"), "{said}");
+        // The same choice on every shard merges, and so does a shard rendered again with the
+        // method auto chose on the others.
+        assert_eq!(identity().chosen_by_auto().difference(&identity().chosen_by_auto()), None);
+        assert_eq!(identity().chosen_by_auto().difference(&identity()), None);
     }
 
     /// A field the settings gain (here added to a part's JSON, as a newer smlt would write it)
