@@ -108,9 +108,27 @@ fn unsupported_content_is_an_error_or_a_warning() {
     doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({"index": 1});
     std::fs::write(dir.join("textured.gltf"), doc.to_string()).unwrap();
     let scene = SceneData::load(&dir.join("textured.gltf")).unwrap();
-    for said in ["normalTexture is ignored", "occlusionTexture is ignored", "images[1]"] {
+    for said in
+        ["normalTexture is ignored on material", "occlusionTexture is ignored on material", "images[1]"]
+    {
         assert!(scene.warnings.iter().any(|w| w.contains(said)), "{said}: {:?}", scene.warnings);
     }
+    // Said once for every material that has one, not once a material.
+    let mut many = doc.clone();
+    let materials = many["materials"].as_array().unwrap().clone();
+    let copies: Vec<_> = (0..6)
+        .map(|i| {
+            let mut m = materials[0].clone();
+            m["name"] = json!(format!("m{i}"));
+            m
+        })
+        .collect();
+    many["materials"] = json!(copies);
+    std::fs::write(dir.join("many.gltf"), many.to_string()).unwrap();
+    let scene = SceneData::load(&dir.join("many.gltf")).unwrap();
+    let normal: Vec<_> = scene.warnings.iter().filter(|w| w.contains("normalTexture")).collect();
+    assert_eq!(normal.len(), 1, "{:?}", scene.warnings);
+    assert!(normal[0].contains("on 6 materials ('m0', 'm1', 'm2', …)"), "{}", normal[0]);
     assert_eq!(scene.material_textures.len(), 1, "the unreadable texture leaves the material untextured");
     // A buffer URI that does not exist, a missing file, a directory.
     doc["buffers"][0]["uri"] = json!("missing.bin");

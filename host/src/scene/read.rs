@@ -205,6 +205,46 @@ pub fn files_hash(path: &Path) -> Result<String, SceneError> {
     Ok(crate::hash::content_hash(&bytes))
 }
 
+/// One warning for each kind of texture that is read but not used, naming the materials that
+/// have one (an asset's every material often has both: said once, not once a material).
+fn ignored_textures(doc: &gltf::Document) -> Vec<String> {
+    let named = |has: &dyn Fn(&gltf::Material) -> bool| -> Vec<String> {
+        doc.materials()
+            .filter(|m| has(m))
+            .map(|m| {
+                m.name()
+                    .map(|n| format!("'{n}'"))
+                    .unwrap_or_else(|| format!("materials[{}]", m.index().unwrap_or(0)))
+            })
+            .collect()
+    };
+    let warning = |texture: &str, materials: Vec<String>, why: &str| {
+        (!materials.is_empty()).then(|| {
+            let on = match materials.len() {
+                1 => format!("material {}", materials[0]),
+                n if n <= 4 => format!("{n} materials ({})", materials.join(", ")),
+                n => format!("{n} materials ({}, …)", materials[..3].join(", ")),
+            };
+            format!("{texture} is ignored on {on}: {why}")
+        })
+    };
+    [
+        warning(
+            "normalTexture",
+            named(&|m| m.normal_texture().is_some()),
+            "shading uses the interpolated NORMAL, or the geometric normal",
+        ),
+        warning(
+            "occlusionTexture",
+            named(&|m| m.occlusion_texture().is_some()),
+            "a path tracer computes occlusion; the texture is an approximation of it",
+        ),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
 /// A material, and its textures where it has any (`Material::textures` is set by the caller).
 fn read_material(
     m: &gltf::Material,
@@ -218,14 +258,6 @@ fn read_material(
     let pbr = m.pbr_metallic_roughness();
     let base = pbr.base_color_factor();
     let at = m.index().map(|i| format!("materials[{i}]")).unwrap_or_else(|| label.clone());
-    if m.normal_texture().is_some() {
-        warnings.push(format!("{label}: normalTexture is ignored (shading uses the geometric normal)"));
-    }
-    if m.occlusion_texture().is_some() {
-        warnings.push(format!(
-            "{label}: occlusionTexture is ignored (a path tracer computes occlusion; the texture is an approximation of it)"
-        ));
-    }
     let mut slot = |info: Option<gltf::texture::Info>, path: &str, warnings: &mut Vec<String>| match info {
         Some(info) => store.reference(source, &info, &format!("{at}.{path}"), warnings),
         None => Ok(TextureRef::NONE),
@@ -460,6 +492,7 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
     // Entry 0 of the material textures is never used (`Material::textures` 0: none).
     soup.material_textures.push(MaterialTextures::default());
     let mut store = TextureStore::default();
+    soup.warnings.extend(ignored_textures(&doc));
     for m in doc.materials() {
         let (mut mat, textures) = read_material(&m, &mut store, source, &mut soup.warnings)?;
         if let Some(t) = textures {
