@@ -101,6 +101,36 @@ fn main() -> anyhow::Result<()> {
         let mut hit = obvhs::ray::RayHit::none();
         bvh.ray_traverse(ray, &mut hit, |r, id| rt[id].intersect(r))
     });
+    // Embree's packet traversal over the same rays, sixteen at a time, and how many of its hits
+    // are the single rays' (not timed).
+    if let smlt::caster::HostCaster::Embree(embree) = host {
+        use smlt::caster::PACKET;
+        let packets: Vec<&[(Vec3, Vec3); PACKET]> =
+            queries.chunks_exact(PACKET).map(|c| c.try_into().unwrap()).collect();
+        let start = Instant::now();
+        let hits: usize = packets
+            .iter()
+            .map(|p| embree.closest_hits16(p, tmin, NO_HIT).iter().filter(|h| h.found()).count())
+            .sum();
+        let seconds = start.elapsed().as_secs_f64();
+        let n = packets.len() * PACKET;
+        let same: usize = packets
+            .iter()
+            .map(|p| {
+                let found = embree.closest_hits16(p, tmin, NO_HIT);
+                found
+                    .iter()
+                    .zip(p.iter())
+                    .filter(|(h, (o, d))| **h == host.closest_hit(*o, *d, tmin, NO_HIT, 0))
+                    .count()
+            })
+            .sum();
+        let label = "Embree packets of 16 (rtcIntersect16)";
+        println!(
+            "  {label:<44} {:>7.2} M rays/s ({hits} hits; {same} of {n} as single rays)",
+            n as f64 / seconds / 1e6
+        );
+    }
     time("shared wide BVH, occlusion to t = 1", &|o, d| wide.occluded(o, d, tmin, 1.0, 0));
     time("obvhs traversal, occlusion to t = 1", &|o, d| obvhs.occluded(o, d, tmin, 1.0, 0));
     time("CPU backend caster, occlusion to t = 1", &|o, d| host.occluded(o, d, tmin, 1.0, 0));

@@ -58,6 +58,29 @@ struct RayHit {
     hit: HitRecord,
 }
 
+/// Lanes of a ray packet ([`EmbreeCaster::closest_hits16`]).
+pub const PACKET: usize = 16;
+
+/// `RTCRayHit16`: a packet of rays and their hits, each field a lane array (SoA).
+#[repr(C, align(64))]
+#[derive(Clone, Copy)]
+struct RayHit16 {
+    org: [[f32; PACKET]; 3],
+    tnear: [f32; PACKET],
+    dir: [[f32; PACKET]; 3],
+    time: [f32; PACKET],
+    tfar: [f32; PACKET],
+    mask: [u32; PACKET],
+    id: [u32; PACKET],
+    flags: [u32; PACKET],
+    ng: [[f32; PACKET]; 3],
+    u: [f32; PACKET],
+    v: [f32; PACKET],
+    prim_id: [u32; PACKET],
+    geom_id: [u32; PACKET],
+    inst_id: [u32; PACKET],
+}
+
 #[repr(C)]
 struct IntersectContext {
     flags: u32,
@@ -114,6 +137,7 @@ struct Api {
     release_device: unsafe extern "C" fn(Handle),
     intersect1: unsafe extern "C" fn(Handle, *mut IntersectContext, *mut RayHit),
     occluded1: unsafe extern "C" fn(Handle, *mut IntersectContext, *mut Ray),
+    intersect16: unsafe extern "C" fn(*const i32, Handle, *mut IntersectContext, *mut RayHit16),
     /// Keeps the library mapped while the entry points are used.
     _library: libloading::Library,
 }
@@ -147,6 +171,7 @@ impl Api {
                 release_device: entry!("rtcReleaseDevice"),
                 intersect1: entry!("rtcIntersect1"),
                 occluded1: entry!("rtcOccluded1"),
+                intersect16: entry!("rtcIntersect16"),
                 _library: library,
             })
         }
@@ -351,6 +376,50 @@ impl EmbreeCaster<'_> {
             Some(slots) => Hit { t: rayhit.ray.tfar, triangle: slots[rayhit.hit.prim_id as usize] },
             None => Hit { t: NO_HIT, triangle: 0 },
         }
+    }
+
+    /// The closest hits of [`PACKET`] rays at once, each in (tmin, tmax), through Embree's
+    /// packet traversal (`rtcIntersect16`): the ray-casting ceiling a wavefront path tracer
+    /// could reach (`host/examples/rays.rs` measures it against single rays). A scene with
+    /// cut-outs, whose filter reads one key a query, and rays Embree would not take are cast
+    /// one at a time.
+    pub fn closest_hits16(&self, rays: &[(Vec3, Vec3); PACKET], tmin: f32, tmax: f32) -> [Hit; PACKET] {
+        let takes = rays.iter().all(|(o, d)| EmbreeScene::takes(*o, *d, tmin, tmax));
+        if !self.scene.slots[1].is_empty() || !takes {
+            return rays.map(|(o, d)| self.closest_hit(o, d, tmin, tmax, 0));
+        }
+        let mut packet = RayHit16 {
+            org: [[0.0; PACKET]; 3],
+            tnear: [tmin; PACKET],
+            dir: [[0.0; PACKET]; 3],
+            time: [0.0; PACKET],
+            tfar: [tmax.next_down(); PACKET],
+            mask: [u32::MAX; PACKET],
+            id: [0; PACKET],
+            flags: [0; PACKET],
+            ng: [[0.0; PACKET]; 3],
+            u: [0.0; PACKET],
+            v: [0.0; PACKET],
+            prim_id: [INVALID_ID; PACKET],
+            geom_id: [INVALID_ID; PACKET],
+            inst_id: [INVALID_ID; PACKET],
+        };
+        for (lane, (o, d)) in rays.iter().enumerate() {
+            for axis in 0..3 {
+                packet.org[axis][lane] = o[axis];
+                packet.dir[axis][lane] = d[axis];
+            }
+        }
+        let valid = [-1i32; PACKET];
+        let mut context = self.context(0);
+        let scene = self.scene;
+        // SAFETY: a committed scene, a context that begins with Embree's, every lane valid and
+        // a packet laid out and aligned as Embree's RTCRayHit16.
+        unsafe { (scene.api.intersect16)(valid.as_ptr(), scene.scene, &mut context.embree, &mut packet) };
+        std::array::from_fn(|lane| match scene.slots.get(packet.geom_id[lane] as usize) {
+            Some(slots) => Hit { t: packet.tfar[lane], triangle: slots[packet.prim_id[lane] as usize] },
+            None => Hit { t: NO_HIT, triangle: 0 },
+        })
     }
 
     /// Whether anything blocks the ray in (tmin, tmax), BLEND cut-outs drawn by `key`.

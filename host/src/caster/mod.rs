@@ -10,7 +10,7 @@ mod obvhs;
 use glam::Vec3;
 use shared::ray_caster::{Hit, RayCaster};
 
-pub use embree::{EmbreeCaster, EmbreeScene};
+pub use embree::{EmbreeCaster, EmbreeScene, PACKET};
 pub use obvhs::ObvhsCaster;
 
 /// The CPU backend's ray caster for one scene.
