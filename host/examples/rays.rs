@@ -130,6 +130,31 @@ fn main() -> anyhow::Result<()> {
             "  {label:<44} {:>7.2} M rays/s ({hits} hits; {same} of {n} as single rays)",
             n as f64 / seconds / 1e6
         );
+        // Camera rays, coherent: the first view at 1024×576, a 4×4 tile of pixels a packet.
+        let (w, h) = (1024u32, 576u32);
+        let camera = scene.camera(w, h);
+        let tiles: Vec<[(Vec3, Vec3); PACKET]> = (0..h / 4)
+            .flat_map(|ty| (0..w / 4).map(move |tx| (tx, ty)))
+            .map(|(tx, ty)| {
+                std::array::from_fn(|i| {
+                    let (x, y) = (4 * tx + i as u32 % 4, 4 * ty + i as u32 / 4);
+                    (camera.origin(), camera.direction(x as f32 + 0.5, y as f32 + 0.5))
+                })
+            })
+            .collect();
+        let n = tiles.len() * PACKET;
+        let start = Instant::now();
+        let single =
+            tiles.iter().flatten().filter(|(o, d)| host.closest_hit(*o, *d, 0.0, NO_HIT, 0).found()).count();
+        let single_rate = n as f64 / start.elapsed().as_secs_f64() / 1e6;
+        let start = Instant::now();
+        let packed: usize = tiles
+            .iter()
+            .map(|p| embree.closest_hits16(p, 0.0, NO_HIT).iter().filter(|h| h.found()).count())
+            .sum();
+        let packed_rate = n as f64 / start.elapsed().as_secs_f64() / 1e6;
+        println!("  {:<44} {single_rate:>7.2} M rays/s ({single} hits)", "camera rays, one at a time");
+        println!("  {:<44} {packed_rate:>7.2} M rays/s ({packed} hits)", "camera rays, 4×4 tiles of 16")
     }
     time("shared wide BVH, occlusion to t = 1", &|o, d| wide.occluded(o, d, tmin, 1.0, 0));
     time("obvhs traversal, occlusion to t = 1", &|o, d| obvhs.occluded(o, d, tmin, 1.0, 0));
