@@ -957,13 +957,17 @@ fn an_environment_lights_a_scene_without_lights() {
 
 /// `--method auto` (the default) on the lamps' caustic through glass (`scenes/caustic.gltf`),
 /// which the path tracer does not render (a spot through glass): its pilot sees the path tracer
-/// missing light against the multiplexed chains and does not choose it. On the Cornell box, where nothing is missing, it flags no candidate.
+/// missing light against the multiplexed chains and does not choose it. On the Cornell box,
+/// where nothing is missing, it flags no candidate. The budget is one in which the missing
+/// caustic outweighs the path tracer's noise: in a render of a fraction of a second (64
+/// mutations per pixel here) its noise is the larger error, and choosing it can be right (seen:
+/// pt 1.31e-2 with the light missing, naive 1.39e-2, on a machine under load).
 #[test]
 fn auto_sees_the_light_the_path_tracer_misses() {
     let dir = temp_dir("auto-caustic");
     let out = dir.join("a.exr");
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/caustic.gltf");
-    let size = ["--width", "64", "--height", "64", "--mutations-per-pixel", "64", "--device", "cpu"];
+    let size = ["--width", "64", "--height", "64", "--mutations-per-pixel", "512", "--device", "cpu"];
     let (ok, stdout, stderr) =
         smlt(&[&["render", scene][..], &size, &["--out", out.to_str().unwrap()]].concat());
     assert!(ok, "{stderr}");

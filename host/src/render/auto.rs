@@ -22,13 +22,20 @@
 //! exactly `--method <chosen>`'s with the same seed, so that it can be reproduced, and the
 //! pilot's samples are not kept (its images are smaller than the render's, and a Metropolis
 //! pilot's chains are not the render's). The pilot's wall time counts against a `--time`
-//! budget.
+//! budget. Its Metropolis renders prepare their chains (the pixel importance and the bootstrap)
+//! through the CPU's fastest caster ([`Preparation::Fast`]): a pilot is never sharded, and
+//! through the device's own traversal, which a render's preparation takes so that its shards
+//! agree, the four preparations were most of the pilot (2.7 s of an 8 s render on Sibenik,
+//! 0.84 s of it rendering).
 
 use std::time::Instant;
 
 use shared::params::RenderParams;
 
-use super::{render, Backend, Budget, Estimator, Method, RenderError, Schedule, Settings, Shard};
+use super::{
+    render_with, Backend, Budget, Estimator, Method, Preparation, RenderError, Schedule, Settings, Shard,
+    DEFAULT_BOOTSTRAP,
+};
 use crate::scene::SceneData;
 
 /// The methods the pilot weighs: the path tracer, and naive chains over each estimator (the
@@ -184,10 +191,9 @@ pub fn reference(runs: &[PilotRun]) -> Vec<f64> {
 /// - the halves' estimate mean_j V_j / (R_j² + 0.01);
 /// - the light it misses: the largest over the other runs o of the mean over [`BLOCK`]² pixel
 ///   blocks b (each channel, each block weighted by its values) of
-///   (max(0, D_b)² − Var(D_b)/2) / (R_b² + 0.01), with D_b the block's mean of I_o − I, its
-///   variance from the halves Σ_b (V_o + V) / |b|², and R_b the block's mean reference (at
-///   least 0): where the two agree in expectation, the difference's positive part has half its
-///   variance (for noise symmetric about 0), so the sum estimates the squared light missing.
+///   [`missing_in_block`]`(D_b, Var(D_b))` / (R_b² + 0.01), with D_b the block's mean of
+///   I_o − I, its variance from the halves Σ_b (V_o + V) / |b|², and R_b the block's mean
+///   reference (at least 0): the squared light missing where a block's deficit is significant.
 ///   Over a block, not a pixel: a pixel of a short pilot has a few samples, and their
 ///   distribution is skewed (mostly dim, now and then bright), which would read as light
 ///   missing; a block's mean of many is nearly symmetric. Every candidate is
@@ -216,7 +222,7 @@ pub fn assess(runs: &[PilotRun], width: u32) -> Vec<Assessment> {
                             let v = values.iter().map(|&j| variance[o][j] + variance[k][j]).sum::<f64>()
                                 / (m * m);
                             let rb = values.iter().map(|&j| r[j]).sum::<f64>() / m;
-                            m * (d.max(0.0).powi(2) - 0.5 * v) / (rb * rb + RELMSE_FLOOR)
+                            m * missing_in_block(d, v) / (rb * rb + RELMSE_FLOOR)
                         })
                         .sum();
                     sum / r.len().max(1) as f64
@@ -225,6 +231,29 @@ pub fn assess(runs: &[PilotRun], width: u32) -> Vec<Assessment> {
             Assessment { method: runs[k].method, seconds: runs[k].seconds, halves_relmse, missing_relmse }
         })
         .collect()
+}
+
+/// How many of its standard deviations a block's deficit must exceed to count as light missing
+/// ([`missing_in_block`]).
+pub const MISSING_SIGNIFICANCE: f64 = 3.0;
+
+/// The squared light missing from a block whose mean is `d` below another candidate's, the
+/// variance of that difference `v` (from the halves): `d² − v/2` where `d` exceeds
+/// [`MISSING_SIGNIFICANCE`] standard deviations, else nothing. Without the threshold, the
+/// positive part's square less half the variance is unbiased for noise symmetric about 0; but a
+/// short pilot's Metropolis image is skewed (its chains visit some blocks often and others not
+/// yet), so its blocks are brighter than another's by chance more often than darker, and every
+/// other candidate read as missing a little light everywhere (seen: the path tracer "missing" as
+/// much as its own variance on Sibenik and Sponza, where it misses nothing, and not chosen there).
+/// Light truly missing — a caustic no path of the method carries, a tail not yet sampled — is
+/// many deviations beyond the noise in the blocks it lights, and counts whole.
+#[inline]
+pub fn missing_in_block(d: f64, v: f64) -> f64 {
+    if d > MISSING_SIGNIFICANCE * v.max(0.0).sqrt() {
+        d * d - 0.5 * v
+    } else {
+        0.0
+    }
 }
 
 /// The side of the square blocks of pixels over which [`assess`] compares the candidates' images.
@@ -267,21 +296,30 @@ pub fn most_efficient(assessments: &[Assessment], seconds: f64, pixels: f64) -> 
         .map_or(Method::NAIVE, |a| a.method)
 }
 
+/// The most bootstrap samples a pilot's Metropolis render traces: a quarter of the default.
+/// Its b then carries about 3 % relative error, some 10⁻³ of relMSE, against the pilot's own
+/// 0.1–0.4 (docs/results.md), and its four bootstraps cost a quarter as much.
+pub const PILOT_BOOTSTRAP: u32 = DEFAULT_BOOTSTRAP / 4;
+
 /// The settings of `method`'s pilot render, half `half` (0 or 1), for a render with `s`: the
 /// view at most [`PILOT_WIDTH`] wide, two seeds of its own per candidate, the whole chains (no
-/// shard), and `budget`.
+/// shard), at most [`PILOT_BOOTSTRAP`] bootstrap samples, and `budget`.
 pub fn pilot_settings(s: &Settings, method: Method, half: u32, budget: Budget) -> Settings {
     let width = s.width.min(PILOT_WIDTH);
     let height = ((s.height as f64 * width as f64 / s.width as f64).round() as u32).max(1);
     let index = CANDIDATES.iter().position(|m| *m == method).unwrap_or(CANDIDATES.len()) as u32;
-    Settings {
+    let mut pilot = Settings {
         width,
         height,
         seed: s.seed.wrapping_mul(0x9e37_79b9).wrapping_add(0x0a17_0000 + 2 * index + half),
         budget,
         shard: Shard::WHOLE,
         ..s.clone().with_method(method)
+    };
+    if let Some(m) = pilot.metropolis_mut() {
+        m.chains.bootstrap_samples = m.chains.bootstrap_samples.min(PILOT_BOOTSTRAP);
     }
+    pilot
 }
 
 /// Each pilot render's budget for a render with `budget`: an equal share of [`PILOT_SHARE`] of
@@ -328,7 +366,7 @@ pub fn choose<'a>(
             let p = pilot_settings(s, method, half, budget);
             size = (p.width, p.height);
             let mut b = backend(&super::base_params(scene, &p))?;
-            let image = render(scene, &p, b.as_mut(), |_: f64| {})?;
+            let image = render_with(scene, &p, b.as_mut(), |_: f64| {}, Preparation::Fast)?;
             seconds += image.stats.render_seconds;
             compile += image.stats.compile_seconds.unwrap_or(0.0);
             halves[half as usize] = image.rgb;

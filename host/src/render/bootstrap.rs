@@ -26,6 +26,21 @@ use crate::scene::SceneData;
 /// Samples traced per task of the pool.
 const BATCH: u32 = 4096;
 
+/// Which traversal the host's preparation of the chains (the pixel importance and the
+/// bootstrap) casts its rays through.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Preparation {
+    /// The device's own traversal (`shared::cwbvh`): the same on every machine and backend,
+    /// whatever host caster is installed, so that every shard of a render starts the same
+    /// chains and the parts merge exactly. Every render's.
+    #[default]
+    Reproducible,
+    /// The CPU backend's fastest caster (Embree where it is installed; 2–4× the device's
+    /// traversal on the host): for renders that no other process must repeat exactly — auto's
+    /// pilot, whose Metropolis candidates each prepare their chains twice.
+    Fast,
+}
+
 /// The bootstrap of a render, for the chains of its shard.
 #[derive(Clone, Debug)]
 pub struct Bootstrap {
@@ -47,6 +62,7 @@ pub fn bootstrap(
     s: &Settings,
     m: &Metropolis,
     importance: &[f32],
+    preparation: Preparation,
 ) -> Result<Bootstrap, RenderError> {
     let start = Instant::now();
     let base = base_params(scene, s);
@@ -65,7 +81,14 @@ pub fn bootstrap(
                     sample_offset: offset,
                     ..base
                 };
-                CpuBuffers::new(scene.device_view(), &params, importance.clone()).bootstrap(&params)
+                match preparation {
+                    Preparation::Reproducible => {
+                        CpuBuffers::new(scene.device_view(), &params, importance.clone()).bootstrap(&params)
+                    }
+                    Preparation::Fast => {
+                        CpuBuffers::new(scene.shared(), &params, importance.clone()).bootstrap(&params)
+                    }
+                }
             })
             .collect();
         let (c, d): (Vec<_>, Vec<_>) = traced.into_iter().unzip();

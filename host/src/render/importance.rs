@@ -1,15 +1,18 @@
 //! The pixel importance Ĩ (`shared::layout::pack_over_importance`): a short path-traced
 //! estimate of every pixel's luminance, smoothed and mixed with its mean, made on the host
-//! before the chains start. Like the bootstrap it casts its rays through the device's own
-//! traversal and its samples are keyed by the seed alone, so every shard of a render, on any
-//! machine, uses the very same Ĩ. Ĩ only reshapes the chains' target: any positive Ĩ gives the
+//! before the chains start. Like the bootstrap, a render's casts its rays through the device's
+//! own traversal ([`Preparation::Reproducible`]) and its samples are keyed by the seed alone,
+//! so every shard of a render, on any machine, uses the very same Ĩ. Ĩ only reshapes the chains' target: any positive Ĩ gives the
 //! same image.
 
 use rayon::prelude::*;
 use shared::color::luminance;
 use shared::path_tracer::{pixel_round, PathTracerParams};
 
-use super::{path_params, Estimator, Metropolis, Settings};
+use shared::ray_caster::RayCaster;
+use shared::scene::Scene;
+
+use super::{path_params, Estimator, Metropolis, Preparation, Settings};
 use crate::scene::SceneData;
 
 /// Samples per pixel of the estimate.
@@ -37,20 +40,33 @@ pub fn importance_mix(estimator: Estimator) -> f32 {
 
 /// Ĩ for the chains `m` of a render with settings `s`: [`IMPORTANCE_SPP`] path-traced samples
 /// of every pixel on the current rayon pool, then [`smooth_and_mix`].
-pub fn estimate_pixel_importance(scene: &SceneData, s: &Settings, m: &Metropolis) -> Vec<f32> {
+pub fn estimate_pixel_importance(
+    scene: &SceneData,
+    s: &Settings,
+    m: &Metropolis,
+    preparation: Preparation,
+) -> Vec<f32> {
     let params = PathTracerParams {
         samples: IMPORTANCE_SPP,
         samples_per_round: IMPORTANCE_SPP,
         round: IMPORTANCE_ROUND,
         ..path_params(scene, s)
     };
-    let view = scene.device_view();
-    let pixels = (s.width * s.height) as usize;
-    let estimate: Vec<f32> = (0..pixels as u32)
-        .into_par_iter()
-        .map(|j| luminance(pixel_round(&params, view, j)) / IMPORTANCE_SPP as f32)
-        .collect();
+    let pixels = (s.width * s.height) as u32;
+    let estimate: Vec<f32> = match preparation {
+        Preparation::Reproducible => luminances(&params, scene.device_view(), pixels),
+        Preparation::Fast => luminances(&params, scene.shared(), pixels),
+    };
     smooth_and_mix(&estimate, s.width, s.height, importance_mix(m.estimator))
+}
+
+/// The mean luminance of `params.samples` path-traced samples of each of `pixels` pixels, on
+/// the current rayon pool.
+fn luminances<R: RayCaster + Sync>(params: &PathTracerParams, view: Scene<R>, pixels: u32) -> Vec<f32> {
+    (0..pixels)
+        .into_par_iter()
+        .map(|j| luminance(pixel_round(params, view, j)) / params.samples as f32)
+        .collect()
 }
 
 /// Ĩ from a noisy luminance estimate `l` (row-major, `width`×`height`): the mean of each pixel's

@@ -16,9 +16,10 @@ pub mod settings;
 
 pub use accumulation::Accumulation;
 pub use blind_spot::blind_spot;
+pub use bootstrap::Preparation;
 pub use estimator::Estimator;
 pub use method::{Method, MethodChoice, Schedule};
-pub use renderer::{normalisation, render, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};
+pub use renderer::{normalisation, render, render_with, Observer, Rendered, Renderer, Stats, DRAIN_EVERY};
 pub use settings::{
     base_params, default_candidates, path_params, path_tracer_params, Budget, ChainSettings, Integrator,
     Metropolis, Settings, Shard, DEFAULT_BOOTSTRAP, DEFAULT_IMAGE_STEP, DEFAULT_MAX_DEPTH,

@@ -14,7 +14,7 @@ use shared::normalisation::{estimate, Estimate, Moments};
 use shared::params::RenderParams;
 use shared::path_tracer::PathTracerParams;
 
-use super::bootstrap::{bootstrap, Bootstrap};
+use super::bootstrap::{bootstrap, Bootstrap, Preparation};
 use super::importance::estimate_pixel_importance;
 use super::{base_params, path_params, Accumulation, Backend, Budget, Integrator, RenderError, Settings};
 use crate::scene::SceneData;
@@ -200,6 +200,18 @@ impl<'a> Renderer<'a> {
         backend: &'a mut dyn Backend,
         observer: &mut dyn Observer,
     ) -> Result<Self, RenderError> {
+        Self::start_with(scene, s, backend, observer, Preparation::Reproducible)
+    }
+
+    /// [`Renderer::start`], with the chains' preparation casting through `preparation`'s
+    /// traversal.
+    pub fn start_with(
+        scene: &SceneData,
+        s: &Settings,
+        backend: &'a mut dyn Backend,
+        observer: &mut dyn Observer,
+        preparation: Preparation,
+    ) -> Result<Self, RenderError> {
         let compile_seconds =
             |backend: &mut dyn Backend,
              observer: &mut dyn Observer,
@@ -230,11 +242,14 @@ impl<'a> Renderer<'a> {
                 let prepare = || -> Result<(Bootstrap, Vec<f32>, Option<f64>), RenderError> {
                     let begin = Instant::now();
                     let (weights, seconds) = if m.chains.pixel_importance {
-                        (estimate_pixel_importance(scene, s, m), Some(begin.elapsed().as_secs_f64()))
+                        (
+                            estimate_pixel_importance(scene, s, m, preparation),
+                            Some(begin.elapsed().as_secs_f64()),
+                        )
                     } else {
                         (vec![1.0; pixels], None)
                     };
-                    Ok((bootstrap(scene, s, m, &weights)?, weights, seconds))
+                    Ok((bootstrap(scene, s, m, &weights, preparation)?, weights, seconds))
                 };
                 let (boot, weights, importance_seconds) = match backend.thread_pool() {
                     Some(pool) => pool.install(prepare)?,
@@ -323,9 +338,20 @@ pub fn render(
     scene: &SceneData,
     s: &Settings,
     backend: &mut dyn Backend,
-    mut observer: impl Observer,
+    observer: impl Observer,
 ) -> Result<Rendered, RenderError> {
-    let mut r = Renderer::start(scene, s, backend, &mut observer)?;
+    render_with(scene, s, backend, observer, Preparation::Reproducible)
+}
+
+/// [`render`], with the chains' preparation casting through `preparation`'s traversal.
+pub fn render_with(
+    scene: &SceneData,
+    s: &Settings,
+    backend: &mut dyn Backend,
+    mut observer: impl Observer,
+    preparation: Preparation,
+) -> Result<Rendered, RenderError> {
+    let mut r = Renderer::start_with(scene, s, backend, &mut observer, preparation)?;
     let iterations = match s.budget {
         Budget::MutationsPerPixel(m) => s.iterations_for(m),
         Budget::Seconds(_) => u64::MAX,
