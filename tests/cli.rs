@@ -699,7 +699,7 @@ fn sharded_auto_renders_merge_or_say_what_to_render_again() {
     render(&["--method", other, "--shard", "2/2", "--out", &path("part2.exr")]);
     let (ok, _, stderr) = merge();
     let said = format!(
-        "method {first} vs {other}, chosen by --method auto on each shard: render the shards again with \
+        "method {first} vs {other}, chosen by --method auto on a shard: render the shards again with \
          --method {first} or --method {other}, the same on all"
     );
     assert!(!ok && stderr.contains(&said) && stderr.lines().count() == 1, "{stderr}");

@@ -105,8 +105,7 @@ fn main() -> anyhow::Result<()> {
     // are the single rays' (not timed).
     if let smlt::caster::HostCaster::Embree(embree) = host {
         use smlt::caster::PACKET;
-        let packets: Vec<&[(Vec3, Vec3); PACKET]> =
-            queries.chunks_exact(PACKET).map(|c| c.try_into().unwrap()).collect();
+        let packets: Vec<&[(Vec3, Vec3); PACKET]> = queries.as_chunks::<PACKET>().0.iter().collect();
         let start = Instant::now();
         let hits: usize = packets
             .iter()

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use shared::normalisation::Moments;
 
-use crate::render::{Accumulation, Rendered, Settings, Shard, Stats};
+use crate::render::{Accumulation, Integrator, Rendered, Settings, Shard, Stats};
 
 /// The `format` value of a part written by this version.
 pub const FORMAT: &str = "smlt-part-5";
@@ -86,23 +86,35 @@ impl Identity {
     /// field's path in words, e.g. `integrator Metropolis chains mutation p large 0.3 vs 0.5`
     /// for a setting), walking every field of both.
     pub fn difference(&self, other: &Identity) -> Option<String> {
+        // How the method was chosen is no difference: a shard rendered again with the method
+        // auto chose elsewhere belongs with the others. Where auto chose on a shard and the
+        // methods differ, everything but the integrator is compared first, so that the merge
+        // names what rendering again with one method would not mend.
+        let value = |id: &Identity, integrator: Option<Integrator>| {
+            let mut id = Identity { chosen_by_auto: false, ..id.clone() };
+            if let Some(integrator) = integrator {
+                id.settings.integrator = integrator;
+            }
+            serde_json::to_value(id)
+        };
+        let compare =
+            |integrator: Option<Integrator>| match (value(self, integrator), value(other, integrator)) {
+                (Ok(a), Ok(b)) => first_difference("", &a, &b),
+                _ => Some("their identities cannot be compared".to_string()),
+            };
         let (a, b) = (self.settings.method(), other.settings.method());
-        if a != b && (self.chosen_by_auto || other.chosen_by_auto) {
-            return Some(format!(
-                "method {a} vs {b}, chosen by --method auto on each shard: render the shards again \
-                 with --method {a} or --method {b}, the same on all"
-            ));
+        if a == b {
+            return compare(None);
         }
-        if a != b {
+        if !(self.chosen_by_auto || other.chosen_by_auto) {
             return Some(format!("method {a} vs {b}"));
         }
-        // How the method was chosen is no difference: a shard rendered again with the method
-        // auto chose elsewhere belongs with the others.
-        let value = |id: &Identity| serde_json::to_value(Identity { chosen_by_auto: false, ..id.clone() });
-        match (value(self), value(other)) {
-            (Ok(a), Ok(b)) => first_difference("", &a, &b),
-            _ => Some("their identities cannot be compared".to_string()),
-        }
+        compare(Some(Integrator::PathTracer)).or_else(|| {
+            Some(format!(
+                "method {a} vs {b}, chosen by --method auto on a shard: render the shards again with \
+                 --method {a} or --method {b}, the same on all"
+            ))
+        })
     }
 }
 
@@ -470,7 +482,8 @@ mod tests {
 
     /// Changing any one value of the identity — every field of the settings included, found by
     /// walking their serialisation, so a setting added later is covered with no edit here —
-    /// makes `difference` name it, and the same identity has none.
+    /// makes `first_difference` name it, and the same identity has none (`difference` leaves
+    /// out only `chosen_by_auto`: `identities_of_no_render_are_refused`).
     #[test]
     fn every_value_of_the_identity_tells_renders_apart() {
         let id = identity();
@@ -509,13 +522,21 @@ mod tests {
         let mut id = identity();
         id.settings.width = 0;
         assert!(id.check().is_err());
-        // Another method is named as such.
+        // Another method is named as such (before anything else: this one's width is 0 too).
         let other = Identity { settings: id.settings.clone().with_method(Method::PathTracer), ..identity() };
         assert_eq!(identity().difference(&other).as_deref(), Some("method path-s3 vs pt"));
-        // Where auto chose on each shard, the merge says what to render again.
-        let said = identity().chosen_by_auto().difference(&other.chosen_by_auto()).unwrap();
-        assert!(said.starts_with("method path-s3 vs pt, chosen by --method auto"), "{said}");
+        // Where auto chose on a shard, the merge says what to render again...
+        let pt = Identity { settings: identity().settings.with_method(Method::PathTracer), ..identity() };
+        let said = identity().chosen_by_auto().difference(&pt.clone().chosen_by_auto()).unwrap();
+        assert!(said.starts_with("method path-s3 vs pt, chosen by --method auto on a shard"), "{said}");
         assert!(said.ends_with("with --method path-s3 or --method pt, the same on all"), "{said}");
+        // ...after what another method would not mend.
+        let mut seeded = pt.clone().chosen_by_auto();
+        seeded.settings.seed += 1;
+        let said = identity().chosen_by_auto().difference(&seeded).unwrap();
+        assert!(said.contains("seed") && !said.contains("--method"), "{said}");
+        let said = identity().chosen_by_auto().difference(&other).unwrap();
+        assert!(said.contains("width") && !said.contains("--method"), "{said}");
         // The same choice on every shard merges, and so does a shard rendered again with the
         // method auto chose on the others.
         assert_eq!(identity().chosen_by_auto().difference(&identity().chosen_by_auto()), None);

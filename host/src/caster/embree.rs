@@ -61,6 +61,10 @@ struct RayHit {
 /// Lanes of a ray packet ([`EmbreeCaster::closest_hits16`]).
 pub const PACKET: usize = 16;
 
+/// A packet query's mask: −1 for a lane to cast, 0 for one to leave; aligned as Embree wants it.
+#[repr(C, align(64))]
+struct Valid([i32; PACKET]);
+
 /// `RTCRayHit16`: a packet of rays and their hits, each field a lane array (SoA).
 #[repr(C, align(64))]
 #[derive(Clone, Copy)]
@@ -405,17 +409,17 @@ impl EmbreeCaster<'_> {
             inst_id: [INVALID_ID; PACKET],
         };
         for (lane, (o, d)) in rays.iter().enumerate() {
-            for axis in 0..3 {
-                packet.org[axis][lane] = o[axis];
-                packet.dir[axis][lane] = d[axis];
+            for (axis, (o, d)) in o.to_array().into_iter().zip(d.to_array()).enumerate() {
+                packet.org[axis][lane] = o;
+                packet.dir[axis][lane] = d;
             }
         }
-        let valid = [-1i32; PACKET];
+        let valid = Valid([-1; PACKET]);
         let mut context = self.context(0);
         let scene = self.scene;
-        // SAFETY: a committed scene, a context that begins with Embree's, every lane valid and
-        // a packet laid out and aligned as Embree's RTCRayHit16.
-        unsafe { (scene.api.intersect16)(valid.as_ptr(), scene.scene, &mut context.embree, &mut packet) };
+        // SAFETY: a committed scene, a context that begins with Embree's, a mask of every lane
+        // valid and a packet, each laid out and aligned (64 bytes) as Embree's.
+        unsafe { (scene.api.intersect16)(valid.0.as_ptr(), scene.scene, &mut context.embree, &mut packet) };
         std::array::from_fn(|lane| match scene.slots.get(packet.geom_id[lane] as usize) {
             Some(slots) => Hit { t: packet.tfar[lane], triangle: slots[packet.prim_id[lane] as usize] },
             None => Hit { t: NO_HIT, triangle: 0 },

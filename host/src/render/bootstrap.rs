@@ -1,12 +1,13 @@
 //! The bootstrap: independent samples of uniform (u, depth) give the first estimate of the
 //! normalisation b and the chains' start states, drawn in proportion to their targets c.
 //!
-//! It always runs on the host, with the kernel bodies on a thread pool, in a fixed order, and
-//! casts its rays through the device's own traversal (`shared::cwbvh`, plain Rust, whatever
-//! host caster the CPU backend uses): it is a function of the scene and the settings alone, so
-//! every shard of a render — on any device, with any thread count, on any machine — computes
-//! the very same bootstrap (the part files carry its moments, and `smlt merge` checks that
-//! they agree).
+//! It always runs on the host, with the kernel bodies on a thread pool, in a fixed order. A
+//! render's casts its rays through the device's own traversal (`shared::cwbvh`, plain Rust,
+//! whatever host caster the CPU backend uses; [`Preparation::Reproducible`]): it is a function
+//! of the scene and the settings alone, so every shard of a render — on any device, with any
+//! thread count, on any machine — computes the very same bootstrap (the part files carry its
+//! moments, and `smlt merge` checks that they agree). Auto's pilot, which no shard shares,
+//! casts through the fastest host caster ([`Preparation::Fast`]).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -17,7 +18,9 @@ use shared::color::luminance;
 use shared::mmlt::ChainState;
 use shared::normalisation::{normalisation_sample, Moments};
 use shared::params::{bootstrap_sample, RenderParams, BOOTSTRAP_ITERATION, MODE_BOOTSTRAP};
+use shared::ray_caster::RayCaster;
 use shared::rng::{self, RngKey};
+use shared::scene::Scene;
 
 use super::cpu::CpuBuffers;
 use super::{base_params, Metropolis, RenderError, Settings};
@@ -54,6 +57,16 @@ pub struct Bootstrap {
     pub seconds: f64,
 }
 
+/// One batch of bootstrap samples (`params` in bootstrap mode) over `view`: their contributions
+/// and depths.
+fn trace<R: RayCaster + Sync>(
+    view: Scene<R>,
+    params: &RenderParams,
+    importance: &Arc<[f32]>,
+) -> (Vec<Vec4>, Vec<u32>) {
+    CpuBuffers::new(view, params, importance.clone()).bootstrap(params)
+}
+
 /// Traces `max(bootstrap samples, chains)` samples for the chains `m` of a render with settings
 /// `s` on the current rayon pool and starts the shard's chains; the contributions are divided by
 /// the pixel importance `importance` (`super::importance`).
@@ -82,12 +95,8 @@ pub fn bootstrap(
                     ..base
                 };
                 match preparation {
-                    Preparation::Reproducible => {
-                        CpuBuffers::new(scene.device_view(), &params, importance.clone()).bootstrap(&params)
-                    }
-                    Preparation::Fast => {
-                        CpuBuffers::new(scene.shared(), &params, importance.clone()).bootstrap(&params)
-                    }
+                    Preparation::Reproducible => trace(scene.device_view(), &params, &importance),
+                    Preparation::Fast => trace(scene.shared(), &params, &importance),
                 }
             })
             .collect();

@@ -1,9 +1,10 @@
 //! The pixel importance Ĩ (`shared::layout::pack_over_importance`): a short path-traced
 //! estimate of every pixel's luminance, smoothed and mixed with its mean, made on the host
-//! before the chains start. Like the bootstrap, a render's casts its rays through the device's
-//! own traversal ([`Preparation::Reproducible`]) and its samples are keyed by the seed alone,
-//! so every shard of a render, on any machine, uses the very same Ĩ. Ĩ only reshapes the chains' target: any positive Ĩ gives the
-//! same image.
+//! before the chains start. Like the bootstrap, a render's estimate casts its rays through the
+//! device's own traversal ([`Preparation::Reproducible`]) and its samples are keyed by the seed
+//! alone, so every shard of a render, on any machine, uses the very same Ĩ (auto's pilot, which
+//! no shard shares, casts through the fastest host caster). Ĩ only reshapes the chains' target:
+//! any positive Ĩ gives the same image.
 
 use rayon::prelude::*;
 use shared::color::luminance;
@@ -52,7 +53,7 @@ pub fn estimate_pixel_importance(
         round: IMPORTANCE_ROUND,
         ..path_params(scene, s)
     };
-    let pixels = (s.width * s.height) as u32;
+    let pixels = s.width * s.height;
     let estimate: Vec<f32> = match preparation {
         Preparation::Reproducible => luminances(&params, scene.device_view(), pixels),
         Preparation::Fast => luminances(&params, scene.shared(), pixels),

@@ -492,7 +492,7 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
     // Entry 0 of the material textures is never used (`Material::textures` 0: none).
     soup.material_textures.push(MaterialTextures::default());
     let mut store = TextureStore::default();
-    soup.warnings.extend(ignored_textures(&doc));
+    soup.warnings.extend(ignored_textures(doc));
     for m in doc.materials() {
         let (mut mat, textures) = read_material(&m, &mut store, source, &mut soup.warnings)?;
         if let Some(t) = textures {

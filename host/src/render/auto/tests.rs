@@ -235,6 +235,11 @@ fn pilot_settings_and_budgets() {
             assert!(seeds.insert(p.seed), "seed {} repeats", p.seed);
         }
     }
+    // A smaller bootstrap than the pilot's is kept.
+    let mut few = s.clone();
+    few.metropolis_mut().unwrap().chains.bootstrap_samples = 1000;
+    let p = pilot_settings(&few, NAIVE, 0, Budget::Seconds(1.0));
+    assert_eq!(p.metropolis().unwrap().chains.bootstrap_samples, 1000);
     let small = Settings { width: 64, height: 48, ..s.clone() };
     assert_eq!(pilot_settings(&small, PT, 0, Budget::Seconds(1.0)).width, 64);
     assert_eq!(pilot_budget(Budget::Seconds(60.0)), Budget::Seconds(1.0));
