@@ -28,48 +28,10 @@ if [ "${1:-}" = --from ]; then
     shift 2
 fi
 dest=${1:-${XDG_CACHE_HOME:-$HOME/.cache}/smlt/damaged-helmet}
-base=https://raw.githubusercontent.com/KhronosGroup/glTF-Sample-Assets/main/Models/DamagedHelmet
 
 # Every file DamagedHelmet.gltf references (its one buffer and five images).
 files="DamagedHelmet.gltf DamagedHelmet.bin
 Default_albedo.jpg Default_metalRoughness.jpg Default_emissive.jpg Default_AO.jpg Default_normal.jpg"
 
-# get SUBDIR FILE: SUBDIR is "" (the model's folder) or "glTF/".
-get() {
-    if [ -n "$from" ]; then
-        if [ -f "$from/$1$2" ]; then
-            cp "$from/$1$2" "$dest/$2"
-        else
-            cp "$from/$2" "$dest/$2"
-        fi
-    else
-        curl -fsSL --retry 3 --retry-delay 2 -o "$dest/$2" "$base/$1$2"
-    fi
-}
-
-mkdir -p "$dest"
-echo "fetching Khronos DamagedHelmet from ${from:-$base} into $dest"
-for f in LICENSE.md README.md; do
-    get "" "$f"
-done
-for f in $files; do
-    get glTF/ "$f"
-done
-
-# The buffer's length must match the byteLength that DamagedHelmet.gltf declares.
-want=$(tr -d ' \t\r\n' < "$dest/DamagedHelmet.gltf" | grep -o '"buffers":\[{[^]]*' | grep -o '"byteLength":[0-9]*' | cut -d: -f2)
-have=$(wc -c < "$dest/DamagedHelmet.bin" | tr -d ' ')
-if [ "$want" != "$have" ]; then
-    echo "error: DamagedHelmet.bin is $have bytes, DamagedHelmet.gltf says $want (Git LFS pointer or truncated download?)" >&2
-    exit 1
-fi
-# Images must be real JPEG bytes (FF D8 FF), not Git LFS pointers or error pages.
-for f in $files; do
-    case $f in *.jpg)
-        if [ "$(head -c 3 "$dest/$f" | od -An -tx1 | tr -d ' \n')" != ffd8ff ]; then
-            echo "error: $f is not a JPEG (Git LFS pointer or error page?)" >&2
-            exit 1
-        fi ;;
-    esac
-done
-echo "ok: $(echo $files | wc -w) files, DamagedHelmet.bin $have bytes, in $dest"
+source "$(dirname "$0")/khronos-sample.sh"
+fetch_khronos_sample DamagedHelmet "$dest" "$from" "$files"

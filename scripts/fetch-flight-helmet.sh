@@ -26,7 +26,6 @@ if [ "${1:-}" = --from ]; then
     shift 2
 fi
 dest=${1:-${XDG_CACHE_HOME:-$HOME/.cache}/smlt/flight-helmet}
-base=https://raw.githubusercontent.com/KhronosGroup/glTF-Sample-Assets/main/Models/FlightHelmet
 
 # Every file FlightHelmet.gltf references (its one buffer and fifteen images).
 files="FlightHelmet.gltf FlightHelmet.bin
@@ -41,42 +40,5 @@ FlightHelmet_Materials_LeatherPartsMat_OcclusionRoughMetal.png
 FlightHelmet_Materials_LensesMat_BaseColor.png FlightHelmet_Materials_LensesMat_Normal.png
 FlightHelmet_Materials_LensesMat_OcclusionRoughMetal.png"
 
-# get SUBDIR FILE: SUBDIR is "" (the model's folder) or "glTF/".
-get() {
-    if [ -n "$from" ]; then
-        if [ -f "$from/$1$2" ]; then
-            cp "$from/$1$2" "$dest/$2"
-        else
-            cp "$from/$2" "$dest/$2"
-        fi
-    else
-        curl -fsSL --retry 3 --retry-delay 2 -o "$dest/$2" "$base/$1$2"
-    fi
-}
-
-mkdir -p "$dest"
-echo "fetching Khronos FlightHelmet from ${from:-$base} into $dest"
-for f in LICENSE.md README.md; do
-    get "" "$f"
-done
-for f in $files; do
-    get glTF/ "$f"
-done
-
-# The buffer's length must match the byteLength that FlightHelmet.gltf declares.
-want=$(tr -d ' \t\r\n' < "$dest/FlightHelmet.gltf" | grep -o '"buffers":\[{[^]]*' | grep -o '"byteLength":[0-9]*' | cut -d: -f2)
-have=$(wc -c < "$dest/FlightHelmet.bin" | tr -d ' ')
-if [ "$want" != "$have" ]; then
-    echo "error: FlightHelmet.bin is $have bytes, FlightHelmet.gltf says $want (Git LFS pointer or truncated download?)" >&2
-    exit 1
-fi
-# Images must be real PNG bytes (89 50 4E 47), not Git LFS pointers or error pages.
-for f in $files; do
-    case $f in *.png)
-        if [ "$(head -c 4 "$dest/$f" | od -An -tx1 | tr -d ' \n')" != 89504e47 ]; then
-            echo "error: $f is not a PNG (Git LFS pointer or error page?)" >&2
-            exit 1
-        fi ;;
-    esac
-done
-echo "ok: $(echo $files | wc -w) files, FlightHelmet.bin $have bytes, in $dest"
+source "$(dirname "$0")/khronos-sample.sh"
+fetch_khronos_sample FlightHelmet "$dest" "$from" "$files"
