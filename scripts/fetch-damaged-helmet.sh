@@ -18,20 +18,9 @@
 #   (DIR/LICENSE.md, DIR/glTF/DamagedHelmet.gltf, ...) or with every file directly in DIR.
 set -euo pipefail
 
-from=
-if [ "${1:-}" = --from ]; then
-    if [ $# -lt 2 ]; then
-        echo "usage: $0 [--from DIR] [DEST]" >&2
-        exit 2
-    fi
-    from=$2
-    shift 2
-fi
-dest=${1:-${XDG_CACHE_HOME:-$HOME/.cache}/smlt/damaged-helmet}
-
 # Every file DamagedHelmet.gltf references (its one buffer and five images).
 files="DamagedHelmet.gltf DamagedHelmet.bin
 Default_albedo.jpg Default_metalRoughness.jpg Default_emissive.jpg Default_AO.jpg Default_normal.jpg"
 
 source "$(dirname "$0")/khronos-sample.sh"
-fetch_khronos_sample DamagedHelmet "$dest" "$from" "$files"
+fetch_khronos_sample_main DamagedHelmet "${XDG_CACHE_HOME:-$HOME/.cache}/smlt/damaged-helmet" "$files" "$@"

@@ -16,17 +16,6 @@
 #   (DIR/LICENSE.md, DIR/glTF/FlightHelmet.gltf, ...) or with every file directly in DIR.
 set -euo pipefail
 
-from=
-if [ "${1:-}" = --from ]; then
-    if [ $# -lt 2 ]; then
-        echo "usage: $0 [--from DIR] [DEST]" >&2
-        exit 2
-    fi
-    from=$2
-    shift 2
-fi
-dest=${1:-${XDG_CACHE_HOME:-$HOME/.cache}/smlt/flight-helmet}
-
 # Every file FlightHelmet.gltf references (its one buffer and fifteen images).
 files="FlightHelmet.gltf FlightHelmet.bin
 FlightHelmet_Materials_RubberWoodMat_BaseColor.png FlightHelmet_Materials_RubberWoodMat_Normal.png
@@ -41,4 +30,4 @@ FlightHelmet_Materials_LensesMat_BaseColor.png FlightHelmet_Materials_LensesMat_
 FlightHelmet_Materials_LensesMat_OcclusionRoughMetal.png"
 
 source "$(dirname "$0")/khronos-sample.sh"
-fetch_khronos_sample FlightHelmet "$dest" "$from" "$files"
+fetch_khronos_sample_main FlightHelmet "${XDG_CACHE_HOME:-$HOME/.cache}/smlt/flight-helmet" "$files" "$@"

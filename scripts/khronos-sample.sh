@@ -2,6 +2,8 @@
 # downloads one model of KhronosGroup/glTF-Sample-Assets into a cache folder and checks what
 # arrived. Nothing it fetches is committed to smlt.
 #
+#   fetch_khronos_sample_main MODEL DEFAULT_DEST FILES "$@"   (a fetch script's arguments:
+#                                                             [--from DIR] [DEST])
 #   fetch_khronos_sample MODEL DEST FROM FILES
 #
 # MODEL: the folder under Models/ (e.g. FlightHelmet), whose glTF is glTF/MODEL.gltf with one
@@ -55,4 +57,20 @@ fetch_khronos_sample() {
         fi
     done
     echo "ok: $(echo $files | wc -w) files, $model.bin $have bytes, in $dest"
+}
+
+# A fetch script's whole work: its arguments [--from DIR] [DEST] (DEST by default
+# DEFAULT_DEST), then fetch_khronos_sample.
+fetch_khronos_sample_main() {
+    local model=$1 dest=$2 files=$3 from=
+    shift 3
+    if [ "${1:-}" = --from ]; then
+        if [ $# -lt 2 ]; then
+            echo "usage: $0 [--from DIR] [DEST]" >&2
+            exit 2
+        fi
+        from=$2
+        shift 2
+    fi
+    fetch_khronos_sample "$model" "${1:-$dest}" "$from" "$files"
 }

@@ -582,29 +582,30 @@ fn the_default_device_is_the_fastest_one() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A small render of the default scene on the CPU that shard tests split (its method aside).
+const SHARDED_RENDER: [&str; 13] = [
+    "render",
+    "--device",
+    "cpu",
+    "--width",
+    "10",
+    "--height",
+    "6",
+    "--mutations-per-pixel",
+    "16",
+    "--bootstrap",
+    "4096",
+    "--candidates",
+    "600",
+];
+
 /// `render --shard K/N` writes part files that `smlt merge` combines into the image the same
 /// render without --shard writes; a merge with a shard missing or twice, or of parts of
 /// different renders, is one line naming the problem and writes nothing.
 #[test]
 fn shards_merge_into_the_unsplit_image() {
     let dir = temp_dir("shards");
-    let base = [
-        "render",
-        "--device",
-        "cpu",
-        "--width",
-        "10",
-        "--height",
-        "6",
-        "--mutations-per-pixel",
-        "16",
-        "--bootstrap",
-        "4096",
-        "--method",
-        "s2",
-        "--candidates",
-        "600",
-    ];
+    let base = [&SHARDED_RENDER[..], &["--method", "s2"]].concat();
     let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
     let (ok, _, stderr) = smlt(&[&base[..], &["--out", &path("whole.exr")]].concat());
     assert!(ok, "{stderr}");
@@ -663,21 +664,7 @@ fn shards_merge_into_the_unsplit_image() {
 fn sharded_auto_renders_merge_or_say_what_to_render_again() {
     let dir = temp_dir("auto-shards");
     let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
-    let base = [
-        "render",
-        "--device",
-        "cpu",
-        "--width",
-        "10",
-        "--height",
-        "6",
-        "--mutations-per-pixel",
-        "16",
-        "--bootstrap",
-        "4096",
-        "--candidates",
-        "600",
-    ];
+    let base = SHARDED_RENDER;
     let render = |extra: &[&str]| -> String {
         let (ok, stdout, stderr) = smlt(&[&base[..], extra].concat());
         assert!(ok, "{extra:?}: {stdout}{stderr}");
