@@ -9,7 +9,6 @@
 use rayon::prelude::*;
 use shared::color::luminance;
 use shared::path_tracer::{pixel_round, PathTracerParams};
-
 use shared::ray_caster::RayCaster;
 use shared::scene::Scene;
 
