@@ -193,7 +193,7 @@ pub struct AutoChoice {
 impl AutoChoice {
     /// `auto.csv`'s header.
     pub const CSV_HEADER: &'static str =
-        "scene,view,repeat,chosen,pilot_seconds,method,pilot_render_seconds,halves_relmse,missing_relmse,predicted_relmse";
+        "scene,view,repeat,chosen,pilot_seconds,method,pilot_render_seconds,halves_relmse,missing_relmse,firefly_share,predicted_relmse";
 
     /// One line per candidate.
     pub fn csv(&self) -> Vec<String> {
@@ -202,7 +202,7 @@ impl AutoChoice {
             .iter()
             .map(|a| {
                 format!(
-                    "{},{},{},{},{:.3},{},{:.3},{:.4e},{:.4e},{:.4e}",
+                    "{},{},{},{},{:.3},{},{:.3},{:.4e},{:.4e},{:.3},{:.4e}",
                     self.scene,
                     self.view,
                     self.repeat,
@@ -212,6 +212,7 @@ impl AutoChoice {
                     a.seconds,
                     a.halves_relmse,
                     a.missing_relmse,
+                    a.firefly_share,
                     a.predicted_relmse(c.render_seconds, c.pixels)
                 )
             })

@@ -16,6 +16,10 @@
 //!   unbiased and adds non-negative contributions, so an unsampled tail shows as missing light
 //!   only, which tells the candidate that misses it from the one that holds it.
 //!
+//! Both are relative errors against the pilot's own [`reference()`], the median of the halves. A
+//! path tracer whose error sits in a few fireflies has met a tail its pilot cannot measure
+//! ([`Assessment::met_fireflies`]) and is not chosen while another candidate has a prediction.
+//!
 //! From them each candidate's relMSE (as the bench measures it) is predicted for the render
 //! ahead ([`Assessment::predicted_relmse`]: the variance scaled to the render's time and
 //! pixels, the light missing kept), and the candidate predicted best renders the image: the render is
@@ -23,36 +27,48 @@
 //! pilot's samples are not kept (its images are smaller than the render's, and a Metropolis
 //! pilot's chains are not the render's). The pilot's wall time counts against a `--time`
 //! budget. Its Metropolis renders prepare their chains (the pixel importance and the bootstrap)
-//! through the CPU's fastest caster ([`Preparation::Fast`]): a pilot is never sharded, and
-//! through the device's own traversal, which a render's preparation takes so that its shards
-//! agree, the four preparations were most of the pilot (2.7 s of an 8 s render on Sibenik,
-//! 0.84 s of it rendering).
+//! through the CPU's fastest caster: a pilot is never sharded, and through the device's own
+//! traversal, which a render's preparation takes so that its shards agree, the four
+//! preparations were most of the pilot (2.7 s of an 8 s render on Sibenik, 0.84 s of it
+//! rendering). Their pixel importance is the path tracer's pilot image, which the pilot renders
+//! first ([`Preparation::FastFrom`]): each estimating its own took as long again as it rendered.
 
 use std::time::Instant;
 
+use glam::Vec3;
+use shared::color::luminance;
 use shared::params::RenderParams;
 
 use super::{
-    render_with, Backend, Budget, Estimator, Method, Preparation, RenderError, Schedule, Settings, Shard,
-    DEFAULT_BOOTSTRAP,
+    render_with, Backend, Budget, Method, Preparation, RenderError, Settings, Shard, DEFAULT_BOOTSTRAP,
 };
 use crate::scene::SceneData;
 
-/// The methods the pilot weighs: the path tracer, and naive chains over each estimator (the
+/// The methods the pilot weighs: the path tracer, and the paper's naive chains (the
 /// speculative trees and reject chains parallelise the same chains; on these cores they do not
 /// pay, docs/results.md).
-pub const CANDIDATES: [Method; 3] = [
-    Method::PathTracer,
-    Method::NAIVE,
-    Method::Metropolis { schedule: Schedule::NAIVE, estimator: Estimator::Path },
-];
+///
+/// Not the chains over the path tracer's estimate (`path-naive`), though they are the best
+/// method on `sunblind` (1.4× `pt`): their chains stick on the path tracer's fireflies — a
+/// chain started on one (the bootstrap draws start states in proportion to their values) stays
+/// there for thousands of steps — and no pilot sees it. On the atrium's views 5 of 6 renders of
+/// 8 s carried such a blot (relMSE 0.05–0.49 against naive's 0.009–0.019) and 16 of 16 pilots
+/// showed none; with the render's 65 536 bootstrap samples 2 of 6 two-second renders of the
+/// atrium did (0.16 and 3.0), with the pilot's 8192 none (0.021–0.024,
+/// `results/cpu-path/auto/pilot_reference.md`). Chosen on the banner view by one pilot of
+/// three, it rendered at a quarter of `pt`'s efficiency.
+pub const CANDIDATES: [Method; 2] = [Method::PathTracer, Method::NAIVE];
 
 /// The widest pilot image: the pilot renders the view at most this wide (its aspect kept), so
 /// that a short pilot has enough samples in each pixel to compare.
 pub const PILOT_WIDTH: u32 = 128;
 
-/// The share of a `--time` budget the pilot's renders take (at least [`PILOT_MIN_SECONDS`]).
-pub const PILOT_SHARE: f64 = 0.1;
+/// The pilot's render seconds for a `--time` budget of t seconds are √(PILOT_SCALE_SECONDS · t)
+/// (at least [`PILOT_MIN_SECONDS`]): a tenth of an 8 s render, 2.2 s (4 %) of a minute's, 6.9 s
+/// (1 %) of ten minutes'. Its choice grows surer with its length, and what it costs the render
+/// is its share: a fixed share (it was a tenth) spent a minute of a ten-minute render on a
+/// 128-pixel pilot, and capped at 0.9 auto's efficiency against the best method's.
+pub const PILOT_SCALE_SECONDS: f64 = 0.08;
 
 /// The least render time of a `--time` pilot, all its renders together.
 pub const PILOT_MIN_SECONDS: f64 = 0.6;
@@ -83,6 +99,43 @@ pub struct Assessment {
     /// The relMSE of the light its pilot image misses against another candidate's ([`assess`]):
     /// the squared bias a heavy tail not yet sampled leaves, which its halves do not see.
     pub missing_relmse: f64,
+    /// The share of `halves_relmse` in its largest [`FIREFLY_VALUES`] of the values
+    /// ([`firefly_share`]).
+    pub firefly_share: f64,
+}
+
+impl Assessment {
+    /// Whether its pilot met fireflies: a path tracer (independent samples: for chains, whose
+    /// images are clumped, a concentrated error is their nature and their halves measure it) whose
+    /// halves' error lies at least [`FIREFLY_SHARE`] in its largest [`FIREFLY_VALUES`] of the
+    /// values. Such an error is a handful of rare samples: the pilot cannot say how rare or how
+    /// large the next ones are, so its prediction is no measurement ([`most_efficient`]).
+    /// Measured: on the atrium, where the sun's caustic off the banner makes the path tracer
+    /// 12× less efficient than the naive chains after 8 s, 7 of 8 pilots had 0.96–0.999 of its
+    /// error in 0.1 % of the values; on Sibenik, Sponza, the banner view, `sunblind` and `slit`
+    /// 0.04–0.43 (`results/cpu-path/auto/pilot_reference.md`).
+    pub fn met_fireflies(&self) -> bool {
+        self.method == Method::PathTracer && self.firefly_share >= FIREFLY_SHARE
+    }
+}
+
+/// The share of the values ([`Assessment::firefly_share`]) whose error makes a firefly: 0.1 %.
+pub const FIREFLY_VALUES: f64 = 0.001;
+
+/// The share of a path tracer's error in its largest [`FIREFLY_VALUES`] of the values beyond
+/// which its pilot met fireflies ([`Assessment::met_fireflies`]).
+pub const FIREFLY_SHARE: f64 = 0.9;
+
+/// The share of the sum of the non-negative `terms` in its largest ⌈[`FIREFLY_VALUES`] · n⌉
+/// (0 for a zero sum); reorders `terms`.
+pub fn firefly_share(terms: &mut [f64]) -> f64 {
+    let total: f64 = terms.iter().sum();
+    if !(total > 0.0) {
+        return 0.0;
+    }
+    let top = ((terms.len() as f64 * FIREFLY_VALUES).ceil() as usize).clamp(1, terms.len());
+    terms.select_nth_unstable_by(top - 1, |a, b| b.total_cmp(a));
+    terms[..top].iter().sum::<f64>() / total
 }
 
 impl Assessment {
@@ -124,7 +177,11 @@ impl Choice {
             .assessments
             .iter()
             .map(|a| {
-                let guard = if a.missing_relmse > a.halves_relmse { ", missing light" } else { "" };
+                let guard = match (a.met_fireflies(), a.missing_relmse > a.halves_relmse) {
+                    (true, _) => ", fireflies",
+                    (false, true) => ", missing light",
+                    (false, false) => "",
+                };
                 format!("{} {:.2e}{guard}", a.method, a.predicted_relmse(self.render_seconds, self.pixels))
             })
             .collect();
@@ -160,34 +217,46 @@ fn relative(x: impl Iterator<Item = f64>, reference: &[f64]) -> f64 {
     sum / reference.len().max(1) as f64
 }
 
-/// The pilot's reference image, for relMSE's denominators: the runs' images combined with
-/// weights 1/(the halves' relMSE estimate against their plain average), so that the least
-/// noisy image dominates (a noisy reference would put its noise, correlated with the images
-/// it is made of, into every denominator). A run whose halves agree exactly (a black image)
-/// weighs nothing, unless all do.
+/// The pilot's reference image, for relMSE's denominators: per value, the median of every
+/// run's halves (all candidates' together). A reference for relative errors must not hold the
+/// noise of the images it measures: a firefly in its denominator hides itself. The first pilot
+/// combined the runs' means weighted by their precision, which let the least noisy run — a
+/// path tracer whose half had met a caustic path, or a Metropolis image — dominate, and so
+/// measure its own error against itself: on the atrium the path tracer's halves read 0.02
+/// where, against the true image, they were 0.6–10; on `sunblind` the naive chains' 0.1 where
+/// they were 0.6–1.2. The median of the halves ignores a firefly in any one and carries no
+/// run's noise whole; against it every candidate's estimate follows its error against the true
+/// image, in the same proportion for all (`results/cpu-path/auto/pilot_reference.md`).
 pub fn reference(runs: &[PilotRun]) -> Vec<f64> {
-    let (mean, variance) = means_and_variances(runs);
-    let n = mean.first().map_or(0, Vec::len);
-    let combine = |weights: &[f64]| -> Vec<f64> {
-        let total: f64 = weights.iter().sum();
-        (0..n).map(|j| weights.iter().zip(&mean).map(|(w, m)| w * m[j]).sum::<f64>() / total).collect()
-    };
-    let average = combine(&vec![1.0; runs.len()]);
-    let weights: Vec<f64> = variance
-        .iter()
-        .map(|v| relative(v.iter().copied(), &average))
-        .map(|h| if h > 0.0 { 1.0 / h } else { 0.0 })
-        .collect();
-    if weights.iter().all(|w| *w == 0.0) {
-        average
+    let n = runs.first().map_or(0, |r| r.halves[0].len());
+    let mut values = Vec::with_capacity(2 * runs.len());
+    (0..n)
+        .map(|j| {
+            values.clear();
+            values.extend(runs.iter().flat_map(|r| r.halves.iter().map(move |h| h[j] as f64)));
+            median(&mut values)
+        })
+        .collect()
+}
+
+/// The median of `values` (the mean of the middle two of an even count; 0 for none), which it
+/// reorders.
+pub fn median(values: &mut [f64]) -> f64 {
+    let n = values.len();
+    if n == 0 {
+        return 0.0;
+    }
+    values.sort_unstable_by(f64::total_cmp);
+    if n % 2 == 1 {
+        values[n / 2]
     } else {
-        combine(&weights)
+        0.5 * (values[n / 2 - 1] + values[n / 2])
     }
 }
 
 /// Each candidate's error after its pilot ([`Assessment`]), from the halves A, B of every run
-/// (all the same size), per value j (a pixel's channel), with I, V as [`means_and_variances`]
-/// and R the pilot's [`reference`]:
+/// (all the same size), per value j (a pixel's channel), with I, V as `means_and_variances` makes them
+/// and R the pilot's [`reference()`]:
 /// - the halves' estimate mean_j V_j / (R_j² + 0.01);
 /// - the light it misses: the largest over the other runs o of the mean over [`BLOCK`]² pixel
 ///   blocks b (each channel, each block weighted by its values) of
@@ -200,8 +269,7 @@ pub fn reference(runs: &[PilotRun]) -> Vec<f64> {
 ///   unbiased and every contribution non-negative, so a short pilot's heavy tail shows as light
 ///   missing — an image darker than another's by more than their noise — never as light in
 ///   excess. (Another run's firefly is held half against this one; its own halves hold it whole
-///   against it. The reference's own noise, correlated with the images compared, leaves a bias
-///   of about 1 % of the noisier image's variance, `tests`.)
+///   against it.)
 pub fn assess(runs: &[PilotRun], width: u32) -> Vec<Assessment> {
     let (mean, variance) = means_and_variances(runs);
     let r = reference(runs);
@@ -209,6 +277,9 @@ pub fn assess(runs: &[PilotRun], width: u32) -> Vec<Assessment> {
     (0..runs.len())
         .map(|k| {
             let halves_relmse = relative(variance[k].iter().copied(), &r);
+            let mut terms: Vec<f64> =
+                variance[k].iter().zip(&r).map(|(v, r)| v / (r * r + RELMSE_FLOOR)).collect();
+            let firefly_share = firefly_share(&mut terms);
             let missing_relmse = (0..runs.len())
                 .filter(|o| *o != k)
                 .map(|o| {
@@ -228,7 +299,13 @@ pub fn assess(runs: &[PilotRun], width: u32) -> Vec<Assessment> {
                     sum / r.len().max(1) as f64
                 })
                 .fold(0.0, f64::max);
-            Assessment { method: runs[k].method, seconds: runs[k].seconds, halves_relmse, missing_relmse }
+            Assessment {
+                method: runs[k].method,
+                seconds: runs[k].seconds,
+                halves_relmse,
+                missing_relmse,
+                firefly_share,
+            }
         })
         .collect()
 }
@@ -284,22 +361,23 @@ fn blocks(values: usize, width: u32) -> Vec<Vec<usize>> {
 }
 
 /// The candidate of `assessments` predicted to reach the least relMSE in a render of `seconds`
-/// with `pixels` times the pilot's pixels ([`Assessment::predicted_relmse`]); a candidate whose
+/// with `pixels` times the pilot's pixels ([`Assessment::predicted_relmse`]), among those whose
+/// pilot met no fireflies ([`Assessment::met_fireflies`]) where there is one; a candidate whose
 /// prediction is not a positive number (an image the pilot found black, say) is never preferred
 /// to one whose is, and where none has one, the paper's naive chains.
 pub fn most_efficient(assessments: &[Assessment], seconds: f64, pixels: f64) -> Method {
     let predicted = |a: &Assessment| a.predicted_relmse(seconds, pixels);
-    assessments
-        .iter()
-        .filter(|a| predicted(a).is_finite() && predicted(a) > 0.0)
-        .min_by(|a, b| predicted(a).total_cmp(&predicted(b)))
-        .map_or(Method::NAIVE, |a| a.method)
+    let measured = |a: &&Assessment| predicted(a).is_finite() && predicted(a) > 0.0;
+    let calm: Vec<&Assessment> = assessments.iter().filter(measured).filter(|a| !a.met_fireflies()).collect();
+    let pool = if calm.is_empty() { assessments.iter().filter(measured).collect() } else { calm };
+    pool.into_iter().min_by(|a, b| predicted(a).total_cmp(&predicted(b))).map_or(Method::NAIVE, |a| a.method)
 }
 
-/// The most bootstrap samples a pilot's Metropolis render traces: a quarter of the default.
-/// Its b then carries about 3 % relative error, some 10⁻³ of relMSE, against the pilot's own
-/// 0.1–0.4 (docs/results.md), and its four bootstraps cost a quarter as much.
-pub const PILOT_BOOTSTRAP: u32 = DEFAULT_BOOTSTRAP / 4;
+/// The most bootstrap samples a pilot's Metropolis render traces: an eighth of the default.
+/// Its b then carries about 4 % relative error, some 2·10⁻³ of relMSE, against the pilot's own
+/// 0.1–5 (`results/cpu-path/auto/pilot_reference.md`), and its four bootstraps cost an eighth
+/// as much (with a quarter, 0.2 s of a 1.2 s pilot on Sibenik).
+pub const PILOT_BOOTSTRAP: u32 = DEFAULT_BOOTSTRAP / 8;
 
 /// The settings of `method`'s pilot render, half `half` (0 or 1), for a render with `s`: the
 /// view at most [`PILOT_WIDTH`] wide, two seeds of its own per candidate, the whole chains (no
@@ -322,13 +400,15 @@ pub fn pilot_settings(s: &Settings, method: Method, half: u32, budget: Budget) -
     pilot
 }
 
-/// Each pilot render's budget for a render with `budget`: an equal share of [`PILOT_SHARE`] of
-/// a `--time` budget (at least [`PILOT_MIN_SECONDS`] in all), or [`PILOT_MUTATIONS_SHARE`] of a
+/// Each pilot render's budget for a render with `budget`: an equal share of the pilot's seconds
+/// for a `--time` budget ([`PILOT_SCALE_SECONDS`]), or [`PILOT_MUTATIONS_SHARE`] of a
 /// `--mutations-per-pixel` budget.
 pub fn pilot_budget(budget: Budget) -> Budget {
     let renders = (2 * CANDIDATES.len()) as f64;
     match budget {
-        Budget::Seconds(t) => Budget::Seconds((t * PILOT_SHARE).max(PILOT_MIN_SECONDS) / renders),
+        Budget::Seconds(t) => {
+            Budget::Seconds((PILOT_SCALE_SECONDS * t).sqrt().max(PILOT_MIN_SECONDS) / renders)
+        }
         Budget::MutationsPerPixel(m) => Budget::MutationsPerPixel(m * PILOT_MUTATIONS_SHARE),
     }
 }
@@ -342,40 +422,77 @@ pub fn remaining_budget(budget: Budget, pilot_seconds: f64) -> Budget {
     }
 }
 
+/// The luminance of each pixel of the mean of two linear rgb images.
+fn mean_luminance(halves: &[Vec<f32>; 2]) -> Vec<f32> {
+    let (a, b) = (halves[0].as_chunks::<3>().0, halves[1].as_chunks::<3>().0);
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| 0.5 * (luminance(Vec3::from_array(*a)) + luminance(Vec3::from_array(*b))))
+        .collect()
+}
+
 /// Makes a backend for a render with the given parameters ([`super::new_backend`]).
 pub type MakeBackend<'a> = dyn FnMut(&RenderParams) -> Result<Box<dyn Backend + 'a>, RenderError> + 'a;
 
+/// The pilot's renders: every candidate's two halves, in [`CANDIDATES`]' order.
+#[derive(Clone, Debug)]
+pub struct Pilot {
+    #[allow(missing_docs)]
+    pub runs: Vec<PilotRun>,
+    /// The pilot's image size.
+    pub width: u32,
+    #[allow(missing_docs)]
+    pub height: u32,
+    /// Seconds the backends spent compiling kernels (a Vulkan driver's, first use only), which
+    /// are not the pilot's time, as they are not a render's.
+    pub compile_seconds: f64,
+}
+
+/// Renders the pilot for a render of `scene` with `s` (its method is ignored) on backends that
+/// `backend` makes, one at a time.
+pub fn run_pilot<'a>(
+    scene: &'a SceneData,
+    s: &Settings,
+    backend: &mut MakeBackend<'a>,
+) -> Result<Pilot, RenderError> {
+    let budget = pilot_budget(s.budget);
+    let mut pilot = Pilot { runs: Vec::new(), width: 0, height: 0, compile_seconds: 0.0 };
+    // The path tracer's pilot image, once rendered, is the Metropolis candidates' pixel
+    // importance (its luminance: more samples than their own estimate would trace, and free).
+    let mut luminance: Option<Vec<f32>> = None;
+    for method in CANDIDATES {
+        let mut halves = [Vec::new(), Vec::new()];
+        let mut seconds = 0.0;
+        for half in 0..2 {
+            let p = pilot_settings(s, method, half, budget);
+            (pilot.width, pilot.height) = (p.width, p.height);
+            let mut b = backend(&super::base_params(scene, &p))?;
+            let preparation = luminance.as_deref().map_or(Preparation::Fast, Preparation::FastFrom);
+            let image = render_with(scene, &p, b.as_mut(), |_: f64| {}, preparation)?;
+            seconds += image.stats.render_seconds;
+            pilot.compile_seconds += image.stats.compile_seconds.unwrap_or(0.0);
+            halves[half as usize] = image.rgb;
+        }
+        if method == Method::PathTracer {
+            luminance = Some(mean_luminance(&halves));
+        }
+        pilot.runs.push(PilotRun { method, halves, seconds });
+    }
+    Ok(pilot)
+}
+
 /// Runs the pilot for a render of `scene` with `s` (its method is ignored) on backends that
-/// `backend` makes, one at a time, and chooses.
+/// `backend` makes ([`run_pilot`]), and chooses.
 pub fn choose<'a>(
     scene: &'a SceneData,
     s: &Settings,
     backend: &mut MakeBackend<'a>,
 ) -> Result<Choice, RenderError> {
     let begin = Instant::now();
-    let budget = pilot_budget(s.budget);
-    let mut runs = Vec::new();
-    let mut size = (0, 0);
-    // The kernels' compilation (a Vulkan driver's, first use only) is before the clock, as a
-    // render's is.
-    let mut compile = 0.0;
-    for method in CANDIDATES {
-        let mut halves = [Vec::new(), Vec::new()];
-        let mut seconds = 0.0;
-        for half in 0..2 {
-            let p = pilot_settings(s, method, half, budget);
-            size = (p.width, p.height);
-            let mut b = backend(&super::base_params(scene, &p))?;
-            let image = render_with(scene, &p, b.as_mut(), |_: f64| {}, Preparation::Fast)?;
-            seconds += image.stats.render_seconds;
-            compile += image.stats.compile_seconds.unwrap_or(0.0);
-            halves[half as usize] = image.rgb;
-        }
-        runs.push(PilotRun { method, halves, seconds });
-    }
-    let assessments = assess(&runs, size.0);
-    let seconds = begin.elapsed().as_secs_f64() - compile;
-    let pixels = (s.width as f64 * s.height as f64) / (size.0 as f64 * size.1 as f64);
+    let pilot = run_pilot(scene, s, backend)?;
+    let assessments = assess(&pilot.runs, pilot.width);
+    let seconds = begin.elapsed().as_secs_f64() - pilot.compile_seconds;
+    let pixels = (s.width as f64 * s.height as f64) / (pilot.width as f64 * pilot.height as f64);
     // A `--mutations-per-pixel` render's seconds: the candidates' pilot halves' mean, scaled
     // from the pilot's share of the work and its pixels.
     let render_seconds = match remaining_budget(s.budget, seconds) {
@@ -389,8 +506,8 @@ pub fn choose<'a>(
         method: most_efficient(&assessments, render_seconds, pixels),
         assessments,
         seconds,
-        width: size.0,
-        height: size.1,
+        width: pilot.width,
+        height: pilot.height,
         render_seconds,
         pixels,
     })

@@ -39,12 +39,13 @@ pub fn importance_mix(estimator: Estimator) -> f32 {
 }
 
 /// Ĩ for the chains `m` of a render with settings `s`: [`IMPORTANCE_SPP`] path-traced samples
-/// of every pixel on the current rayon pool, then [`smooth_and_mix`].
+/// of every pixel on the current rayon pool (or the luminance [`Preparation::FastFrom`] gives,
+/// where it is of the render's size), then [`smooth_and_mix`].
 pub fn estimate_pixel_importance(
     scene: &SceneData,
     s: &Settings,
     m: &Metropolis,
-    preparation: Preparation,
+    preparation: Preparation<'_>,
 ) -> Vec<f32> {
     let params = PathTracerParams {
         samples: IMPORTANCE_SPP,
@@ -54,8 +55,9 @@ pub fn estimate_pixel_importance(
     };
     let pixels = s.width * s.height;
     let estimate: Vec<f32> = match preparation {
-        Preparation::Reproducible => luminances(&params, scene.device_view(), pixels),
-        Preparation::Fast => luminances(&params, scene.shared(), pixels),
+        Preparation::FastFrom(luminance) if luminance.len() == pixels as usize => luminance.to_vec(),
+        p if p.fast() => luminances(&params, scene.shared(), pixels),
+        _ => luminances(&params, scene.device_view(), pixels),
     };
     smooth_and_mix(&estimate, s.width, s.height, importance_mix(m.estimator))
 }

@@ -210,7 +210,7 @@ impl<'a> Renderer<'a> {
         s: &Settings,
         backend: &'a mut dyn Backend,
         observer: &mut dyn Observer,
-        preparation: Preparation,
+        preparation: Preparation<'_>,
     ) -> Result<Self, RenderError> {
         let compile_seconds =
             |backend: &mut dyn Backend,
@@ -349,7 +349,7 @@ pub fn render_with(
     s: &Settings,
     backend: &mut dyn Backend,
     mut observer: impl Observer,
-    preparation: Preparation,
+    preparation: Preparation<'_>,
 ) -> Result<Rendered, RenderError> {
     let mut r = Renderer::start_with(scene, s, backend, &mut observer, preparation)?;
     let iterations = match s.budget {
