@@ -311,8 +311,13 @@ pub fn assess(runs: &[PilotRun], width: u32) -> Vec<Assessment> {
 }
 
 /// How many of its standard deviations a block's deficit must exceed to count as light missing
-/// ([`missing_in_block`]).
-pub const MISSING_SIGNIFICANCE: f64 = 3.0;
+/// ([`missing_in_block`]). At 3 the chance deficits of some 1700 block-channels of a 128×72
+/// pilot, estimated from two halves each, read on `slit` as a path tracer's missing light up to
+/// 2.4× its variance (the light-through-a-gap view, where nothing is missing; seen choosing
+/// `naive` there, at 0.65× `pt`'s efficiency); at 5 at most 0.15 of it, and the spot's
+/// caustic through glass that the path tracer cannot render reads the same (5–7 × 10⁻³ in six
+/// pilots at 3, 4 and 5: `cargo run --release --example pilot`, with the threshold varied).
+pub const MISSING_SIGNIFICANCE: f64 = 5.0;
 
 /// The squared light missing from a block whose mean is `d` below another candidate's, the
 /// variance of that difference `v` (from the halves): `d² − v/2` where `d` exceeds
@@ -381,7 +386,15 @@ pub const PILOT_BOOTSTRAP: u32 = DEFAULT_BOOTSTRAP / 8;
 
 /// The settings of `method`'s pilot render, half `half` (0 or 1), for a render with `s`: the
 /// view at most [`PILOT_WIDTH`] wide, two seeds of its own per candidate, the whole chains (no
-/// shard), at most [`PILOT_BOOTSTRAP`] bootstrap samples, and `budget`.
+/// shard), at most [`PILOT_BOOTSTRAP`] bootstrap samples with as many chains to a sample as the
+/// render's, and `budget`.
+///
+/// Chains that outnumber their bootstrap's samples start on the same samples and err together
+/// until they part: the naive chains on the banner view after 2 s had relMSE 0.15–0.25 with
+/// 4096 chains from 8192 samples, 0.077–0.098 from 65 536, and 0.080–0.089 with 512 chains
+/// from either (`results/cpu-path/auto/pilot_reference.md`). A pilot with fewer samples than the
+/// render's runs proportionally fewer chains, or it would measure an error the render does not
+/// have (2.5–4× the render's, before).
 pub fn pilot_settings(s: &Settings, method: Method, half: u32, budget: Budget) -> Settings {
     let width = s.width.min(PILOT_WIDTH);
     let height = ((s.height as f64 * width as f64 / s.width as f64).round() as u32).max(1);
@@ -395,7 +408,11 @@ pub fn pilot_settings(s: &Settings, method: Method, half: u32, budget: Budget) -
         ..s.clone().with_method(method)
     };
     if let Some(m) = pilot.metropolis_mut() {
-        m.chains.bootstrap_samples = m.chains.bootstrap_samples.min(PILOT_BOOTSTRAP);
+        let render = m.chains.bootstrap_samples.max(1);
+        m.chains.bootstrap_samples = render.min(PILOT_BOOTSTRAP);
+        let scaled = s.candidates as u64 * m.chains.bootstrap_samples as u64 / render as u64;
+        let per_chain = m.schedule.candidates_per_chain();
+        pilot.candidates = (scaled as u32).max(per_chain);
     }
     pilot
 }

@@ -294,8 +294,8 @@ fn median_of_odd_and_even_counts() {
 #[test]
 fn a_block_counts_missing_light_beyond_its_noise() {
     assert_eq!(missing_in_block(0.5, 0.0), 0.25);
-    assert!((missing_in_block(0.5, 0.01) - 0.245).abs() < 1e-12);
-    assert_eq!(missing_in_block(0.29, 0.01), 0.0);
+    assert!((missing_in_block(0.6, 0.01) - 0.355).abs() < 1e-12);
+    assert_eq!(missing_in_block(0.49, 0.01), 0.0);
     assert_eq!(missing_in_block(-1.0, 0.0), 0.0);
     assert_eq!(missing_in_block(0.0, 0.0), 0.0);
 }
@@ -331,6 +331,10 @@ fn pilot_settings_and_budgets() {
             assert_eq!((p.width, p.height, p.shard, p.method()), (128, 72, Shard::WHOLE, m));
             if let Some(chains) = p.metropolis().map(|m| m.chains) {
                 assert_eq!(chains.bootstrap_samples, PILOT_BOOTSTRAP);
+                // As many chains to a bootstrap sample as the render: an eighth of its chains.
+                assert_eq!(p.chains(), s.chains() / 8);
+            } else {
+                assert_eq!(p.candidates, s.candidates);
             }
             assert!(seeds.insert(p.seed), "seed {} repeats", p.seed);
         }
@@ -340,6 +344,7 @@ fn pilot_settings_and_budgets() {
     few.metropolis_mut().unwrap().chains.bootstrap_samples = 1000;
     let p = pilot_settings(&few, NAIVE, 0, Budget::Seconds(1.0));
     assert_eq!(p.metropolis().unwrap().chains.bootstrap_samples, 1000);
+    assert_eq!(p.candidates, few.candidates);
     let small = Settings { width: 64, height: 48, ..s.clone() };
     assert_eq!(pilot_settings(&small, PT, 0, Budget::Seconds(1.0)).width, 64);
     let seconds = |b: Budget| match b {
