@@ -74,9 +74,9 @@ fn main() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// mean_j e_j² / (r_j² + 0.01): relMSE of the errors `e` against the denominators `r`.
+/// relMSE of the errors `e` against the denominators `r` (auto's own form).
 fn relmse(errors: impl Iterator<Item = f64>, r: &[f64]) -> f64 {
-    errors.zip(r).map(|(e, r)| e * e / (r * r + auto::RELMSE_FLOOR)).sum::<f64>() / r.len() as f64
+    auto::relative(errors.map(|e| e * e), r)
 }
 
 /// The first pilot's reference: the runs' means weighted by 1 / their halves' relMSE against

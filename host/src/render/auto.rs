@@ -211,10 +211,16 @@ fn means_and_variances(runs: &[PilotRun]) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
     (per_value(&|a, b| 0.5 * (a + b)), per_value(&|a, b| 0.25 * (a - b) * (a - b)))
 }
 
-/// mean_j x_j / (r_j² + 0.01): relMSE's form over the values `x` against the reference `r`.
-fn relative(x: impl Iterator<Item = f64>, reference: &[f64]) -> f64 {
-    let sum: f64 = x.zip(reference).map(|(x, r)| x / (r * r + RELMSE_FLOOR)).sum();
-    sum / reference.len().max(1) as f64
+/// x_j / (r_j² + 0.01) for each value: relMSE's terms of the squared errors `x` against the
+/// reference `r`.
+pub fn relative_terms(x: impl Iterator<Item = f64>, reference: &[f64]) -> Vec<f64> {
+    x.zip(reference).map(|(x, r)| x / (r * r + RELMSE_FLOOR)).collect()
+}
+
+/// mean_j x_j / (r_j² + 0.01): relMSE of the squared errors `x` against the reference `r`
+/// ([`relative_terms`]' mean).
+pub fn relative(x: impl Iterator<Item = f64>, reference: &[f64]) -> f64 {
+    relative_terms(x, reference).iter().sum::<f64>() / reference.len().max(1) as f64
 }
 
 /// The pilot's reference image, for relMSE's denominators: per value, the median of every
@@ -276,9 +282,8 @@ pub fn assess(runs: &[PilotRun], width: u32) -> Vec<Assessment> {
     let blocks = blocks(r.len(), width);
     (0..runs.len())
         .map(|k| {
-            let halves_relmse = relative(variance[k].iter().copied(), &r);
-            let mut terms: Vec<f64> =
-                variance[k].iter().zip(&r).map(|(v, r)| v / (r * r + RELMSE_FLOOR)).collect();
+            let mut terms = relative_terms(variance[k].iter().copied(), &r);
+            let halves_relmse = terms.iter().sum::<f64>() / r.len().max(1) as f64;
             let firefly_share = firefly_share(&mut terms);
             let missing_relmse = (0..runs.len())
                 .filter(|o| *o != k)
