@@ -49,7 +49,7 @@ use crate::scene::SceneData;
 /// pay, docs/results.md).
 ///
 /// Not the chains over the path tracer's estimate (`path-naive`), though they are the best
-/// method on `sunblind` (1.4× `pt`): their chains stick on the path tracer's fireflies — a
+/// method on `sunblind` (1.5× `pt`): their chains stick on the path tracer's fireflies — a
 /// chain started on one (the bootstrap draws start states in proportion to their values) stays
 /// there for thousands of steps — and no pilot sees it. On the atrium's views 5 of 6 renders of
 /// 8 s carried such a blot (relMSE 0.05–0.49 against naive's 0.009–0.019) and 16 of 16 pilots
@@ -113,7 +113,7 @@ impl Assessment {
     /// Measured: on the atrium, where the sun's caustic off the banner makes the path tracer
     /// 12× less efficient than the naive chains after 8 s, 7 of 8 pilots had 0.96–0.999 of its
     /// error in 0.1 % of the values; on Sibenik, Sponza, the banner view, `sunblind` and `slit`
-    /// 0.04–0.43 (`results/cpu-path/auto/pilot_reference.md`).
+    /// 0.07–0.43 (`results/cpu-path/auto/pilot_reference.md`).
     pub fn met_fireflies(&self) -> bool {
         self.method == Method::PathTracer && self.firefly_share >= FIREFLY_SHARE
     }
