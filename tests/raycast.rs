@@ -16,7 +16,7 @@ use smlt::passes::buffers::{OnDevice, SceneBuffers, Storage};
 use smlt::render::{self, Budget, ChainSettings, Integrator, Method, Settings};
 use smlt::scene::SceneData;
 use smlt::timing::{time_passes, Clock};
-use smlt_bench::raycast::{log_candidates, replay, RayLog};
+use smlt_bench::raycast::{log_candidates, log_paths, replay, RayLog, LOGGED_PATHS};
 
 /// Fresh (bootstrap) candidates of `scene`: their parameters, samples and depths.
 fn candidates(scene: &SceneData, count: u32, max_depth: u32) -> (RenderParams, Vec<f32>, Vec<u32>) {
@@ -113,6 +113,57 @@ fn the_log_holds_the_rays_of_each_candidates_path() {
         log.rays.len().is_multiple_of(c)
             && log.rays.len() / c == (0..c).map(|k| rays_of(&log, k).len()).max().unwrap()
     );
+}
+
+/// The path tracer's log holds each path's own rays, in order: in the furnace (every ray hits,
+/// every face a light) a path casts one closest-hit ray for each vertex whose uniforms it read,
+/// one more if it reached the depth limit, and at most one shadow ray a vertex; the groups
+/// cover every stride-th pixel once, in order, [`LOGGED_PATHS`] at most.
+#[test]
+fn the_path_tracers_log_holds_each_paths_rays() {
+    let scene = common::scenes::furnace(0.5, 0.5);
+    let max_depth = 6;
+    // More pixels than the log takes, so that it strides.
+    let (width, height) = (512, 160);
+    let params = render::path_tracer_params(&scene, (width, height), max_depth, 3, 1);
+    let logs = log_paths(&scene, &params, 5);
+    let pixels = width * height;
+    let stride = pixels.div_ceil(LOGGED_PATHS);
+    assert!(stride > 1);
+    assert_eq!(logs.len(), 5);
+    let chosen: Vec<u32> = (0..pixels).step_by(stride as usize).collect();
+    assert_eq!(logs.iter().map(|l| l.candidates as usize).sum::<usize>(), chosen.len());
+    assert!(chosen.len() as u32 <= LOGGED_PATHS);
+    let caster = scene.shared().caster;
+    let (mut paths, mut at_limit, mut shadow) = (0usize, 0usize, 0usize);
+    let logged = logs.iter().flat_map(|log| (0..log.candidates as usize).map(move |k| (log, k)));
+    for ((log, k), &pixel) in logged.zip(&chosen) {
+        let rays = rays_of(log, k);
+        let closest: Vec<&Ray> = rays.iter().filter(|r| r.kind == RAY_CLOSEST).collect();
+        let occlusion = rays.iter().filter(|r| r.kind == RAY_OCCLUSION).count();
+        // The same path, from its own uniforms.
+        let samples = shared::path_tracer::KeyedSamples::new(params.seed, pixel, 0);
+        let jitter = shared::path_tracer::PathSamples::raster(&samples);
+        let at = ((pixel % width) as f32 + jitter.x, (pixel / width) as f32 + jitter.y);
+        let settings = shared::path_tracer::PathSettings::from(&params);
+        let path = shared::path_tracer::trace_path(&settings, scene.shared(), at, &samples);
+        let v = path.vertices as usize;
+        assert!(
+            closest.len() == v || closest.len() == v + 1,
+            "pixel {pixel}: {} rays, {v} vertices",
+            closest.len()
+        );
+        assert!(closest.len() <= v || v == max_depth as usize, "pixel {pixel}: a ray past the last vertex");
+        assert!(occlusion <= v, "pixel {pixel}");
+        assert_eq!(closest[0].kind, RAY_CLOSEST);
+        assert!(closest.iter().all(|r| shared::rays::cast(&caster, r) > 0), "pixel {pixel}: a ray missed");
+        at_limit += (closest.len() > v) as usize;
+        shadow += occlusion;
+        paths += 1;
+    }
+    let count: u64 = logs.iter().map(|l| l.count).sum();
+    println!("{paths} paths, {count} rays, {shadow} shadow rays, {at_limit} at the depth limit");
+    assert!(at_limit > 0 && shadow > paths, "the furnace's paths reach the limit and see lights");
 }
 
 /// The device replays the default scene's logged rays with the same answers as the host (the

@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 use shared::params::RenderParams;
 
 use metrics::{errors, heat_map};
-use profile::{profile, Profile, ProfiledBackend};
+use profile::{path_tracer_profile, profile, Profile, ProfiledBackend};
 use results::{final_row, Row, CSV_HEADER};
 use smlt::gpu::Gpu;
 use smlt::reference::{cached_or_render, ReferenceSettings};
@@ -322,16 +322,18 @@ fn equal_time(
     drop(renderers);
     if repeat == 0 {
         for (i, method) in b.methods.iter().enumerate() {
-            // The profile looks inside the chains' iterations; the path tracer has one pass, and
-            // auto's is the profile of the method it chose.
+            // The profile looks inside the chains' iterations, and the path tracer's at its ray
+            // ceiling; auto's is the profile of the method it chose.
             let MethodChoice::Named(method) = method else { continue };
-            if *method == Method::PathTracer {
-                continue;
-            }
-            let method = method.to_string();
-            let measured = final_row(rows, label, view, &method).map_or(0.0, |r| r.mutations_per_s);
-            let what = (label, view, method.as_str());
-            let p = profile(backends[i].as_mut(), scene, what, next[i], measured)?;
+            let name = method.to_string();
+            let measured = final_row(rows, label, view, &name).map_or(0.0, |r| r.mutations_per_s);
+            let what = (label, view, name.as_str());
+            let p = if *method == Method::PathTracer {
+                let params = render::path_params(scene, &settings[i]);
+                path_tracer_profile(backends[i].as_ref(), scene, what, &params, measured)?
+            } else {
+                profile(backends[i].as_mut(), scene, what, next[i], measured)?
+            };
             log(&format!("profile {}", p.csv()));
             profiles.push(p);
         }

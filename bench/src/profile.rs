@@ -10,9 +10,10 @@
 
 use std::fmt::Write as _;
 
-use crate::raycast::{log_candidates, replay, replay_on_host, RayLog};
+use crate::raycast::{log_candidates, log_paths, replay, replay_on_host, RayLog};
 use crate::results::first_seen;
 use shared::params::RenderParams;
+use shared::path_tracer::PathTracerParams;
 use smlt::passes::Stage;
 use smlt::render::cpu::CpuBackend;
 use smlt::render::gpu::{GpuBackend, PassTimes};
@@ -203,6 +204,38 @@ pub fn profile(
     Ok(assemble(scene, what, (&last, clock, total), &logs, seconds, mutations_per_s, threads))
 }
 
+/// The path tracer's ray-casting ceiling on `backend`, whose equal-time run of `what` under
+/// `params` measured `paths_per_s`: the rays of one sample through pixels spread over the image
+/// ([`log_paths`]), replayed bare where the backend casts rays. The path tracer has no stages,
+/// so the profile's pass times are NaN; its candidates are the paths of a round.
+pub fn path_tracer_profile(
+    backend: &dyn ProfiledBackend,
+    scene: &SceneData,
+    what: Profiled,
+    params: &PathTracerParams,
+    paths_per_s: f64,
+) -> Result<Profile, RenderError> {
+    let threads = backend.replay_threads();
+    // A few logs a thread, so that the host's threads share the replay as they share a round.
+    let logs = log_paths(scene, params, (4 * threads).max(1) as u32);
+    let seconds = backend.replay_seconds(scene, &logs)?;
+    let rays: u64 = logs.iter().map(|l| l.count).sum();
+    let paths: u64 = logs.iter().map(|l| l.candidates as u64).sum();
+    Ok(Profile {
+        scene: what.0.to_string(),
+        view: what.1,
+        method: what.2.to_string(),
+        candidates: params.width * params.height * params.samples,
+        clock: Clock::Wall,
+        pass_ms: [f64::NAN; Stage::COUNT],
+        rays_per_candidate: rays as f64 / paths.max(1) as f64,
+        bare_rays_per_s: rays as f64 / seconds,
+        mutations_per_s: paths_per_s,
+        device_mib: 0.0,
+        threads,
+    })
+}
+
 /// Runs [`TIMED_ITERATIONS`] iterations from `params` through `iterate` (seconds per stage and
 /// the clock that timed them); returns the last iteration's parameters, the clock and each
 /// stage's summed seconds.
@@ -257,7 +290,8 @@ pub fn tables(profiles: &[Profile]) -> String {
     let mut out = String::new();
     for (scene, view) in first_seen(profiles.iter().map(|p| (p.scene.clone(), p.view))) {
         let rows: Vec<&Profile> = profiles.iter().filter(|p| p.scene == scene && p.view == view).collect();
-        let clock = rows.first().map(|p| p.clock).unwrap_or(Clock::Wall);
+        // The path tracer's row has no passes, and no clock of its own.
+        let clock = rows.iter().find(|p| p.iteration_ms().is_finite()).map_or(Clock::Wall, |p| p.clock);
         let names: Vec<&str> = Stage::ITERATION.iter().map(|s| s.name()).collect();
         let _ = writeln!(
             out,
@@ -269,15 +303,15 @@ pub fn tables(profiles: &[Profile]) -> String {
             "---|".repeat(names.len())
         );
         for p in rows {
-            let stages: Vec<String> = p.pass_ms.iter().map(|ms| format!("{ms:.2}")).collect();
+            let stages: Vec<String> = p.pass_ms.iter().map(|&ms| finite(ms, 2)).collect();
             let _ = writeln!(
                 out,
-                "| {} | {} | {} | {:.2} | {:.1} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {:.0} % | {:.1} |",
+                "| {} | {} | {} | {} | {} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {:.0} % | {:.1} |",
                 p.method,
                 p.candidates,
                 stages.join(" | "),
-                p.iteration_ms(),
-                p.trace_connect_ns(),
+                finite(p.iteration_ms(), 2),
+                finite(p.trace_connect_ns(), 1),
                 p.rays_per_candidate,
                 p.bare_rays_per_s / 1e6,
                 if p.threads > 0 {
@@ -294,4 +328,52 @@ pub fn tables(profiles: &[Profile]) -> String {
         out.push('\n');
     }
     out
+}
+
+/// `x` to `decimals` places, or a dash where it is not measured (NaN: the path tracer's passes).
+fn finite(x: f64, decimals: usize) -> String {
+    if x.is_nan() {
+        "–".into()
+    } else {
+        format!("{x:.decimals$}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The path tracer's row shows its ray ceiling and a dash for each pass it does not have.
+    #[test]
+    fn the_path_tracers_row_has_a_ceiling_and_no_passes() {
+        let pt = Profile {
+            scene: "cornell".into(),
+            view: 1,
+            method: "pt".into(),
+            candidates: 9216,
+            clock: Clock::Wall,
+            pass_ms: [f64::NAN; Stage::COUNT],
+            rays_per_candidate: 8.0,
+            bare_rays_per_s: 6.4e6,
+            mutations_per_s: 0.4e6,
+            device_mib: 0.0,
+            threads: 2,
+        };
+        let naive = Profile {
+            method: "naive".into(),
+            clock: Clock::Timestamp,
+            pass_ms: [1.0; Stage::COUNT],
+            ..pt.clone()
+        };
+        assert!(
+            (pt.ceiling_mutations_per_s() - 0.8e6).abs() < 1e-6
+                && (pt.ceiling_fraction() - 0.5).abs() < 1e-12
+        );
+        let table = tables(&[pt, naive]);
+        let row = table.lines().find(|l| l.starts_with("| pt |")).expect("the pt row");
+        assert_eq!(row.matches("| – ").count(), Stage::COUNT + 2, "{row}");
+        assert!(row.contains("| 0.80 | 0.40 | 50 % |"), "{row}");
+        // The clock is the one that timed the passes.
+        assert!(table.contains("timestamp clock"), "{table}");
+    }
 }

@@ -3,13 +3,15 @@
 //! buffer through a [`Logged`] ray caster, then replayed bare by the `raycast` kernel, on the
 //! device or on the CPU backend's threads.
 //! Rays per candidate and bare rays/s give the most candidates a second the device could trace
-//! if casting rays were all it did: `rays/s ÷ rays per candidate`.
+//! if casting rays were all it did: `rays/s ÷ rays per candidate`. The path tracer's paths are
+//! logged the same way ([`log_paths`]), a path standing for a candidate.
 
 use std::cell::RefCell;
 
 use glam::{Vec3, Vec4};
 use shared::mmlt::{vertex_slots, PathInfo, PathVertex};
 use shared::params::RenderParams;
+use shared::path_tracer::PathTracerParams;
 use shared::ray_caster::{Hit, RayCaster};
 use shared::rays::{Ray, RAY_CLOSEST, RAY_OCCLUSION};
 
@@ -65,6 +67,19 @@ pub struct RayLog {
 }
 
 impl RayLog {
+    /// The log of `lists`, candidate k's rays in `lists[k]`, laid out for the `raycast` kernel.
+    pub fn from_lists(lists: &[Vec<Ray>]) -> Self {
+        let c = lists.len();
+        let most = lists.iter().map(Vec::len).max().unwrap_or(0);
+        let mut rays = vec![Ray::default(); most * c];
+        for (k, list) in lists.iter().enumerate() {
+            for (j, ray) in list.iter().enumerate() {
+                rays[k + j * c] = *ray;
+            }
+        }
+        RayLog { candidates: c as u32, rays, count: lists.iter().map(|l| l.len() as u64).sum() }
+    }
+
     /// Rays cast per candidate.
     pub fn per_candidate(&self) -> f64 {
         self.count as f64 / self.candidates.max(1) as f64
@@ -115,14 +130,38 @@ pub fn log_candidates(
         kernels::connect::connect(k, connect);
         per_candidate.push(log.into_rays());
     }
-    let most = per_candidate.iter().map(Vec::len).max().unwrap_or(0);
-    let mut rays = vec![Ray::default(); most * c];
-    for (k, list) in per_candidate.iter().enumerate() {
-        for (j, ray) in list.iter().enumerate() {
-            rays[k + j * c] = *ray;
-        }
-    }
-    RayLog { candidates: c as u32, rays, count: per_candidate.iter().map(|l| l.len() as u64).sum() }
+    RayLog::from_lists(&per_candidate)
+}
+
+/// Paths whose rays [`log_paths`] logs at most: enough for a steady replay, few enough that
+/// a 1080p render's log stays small.
+pub const LOGGED_PATHS: u32 = 1 << 16;
+
+/// Logs the rays of one sample of the path tracer (`shared::path_tracer::pixel_sample` under
+/// `params`, sample number `params.round · params.samples_per_round`) through every `stride`-th
+/// pixel, [`LOGGED_PATHS`] at most, the pixels spread evenly over the image, as `groups` logs
+/// of consecutive pixels (the CPU backend's replay runs the logs in parallel).
+pub fn log_paths(scene: &SceneData, params: &PathTracerParams, groups: u32) -> Vec<RayLog> {
+    let pixels = params.width * params.height;
+    let stride = pixels.div_ceil(LOGGED_PATHS).max(1);
+    let chosen: Vec<u32> = (0..pixels).step_by(stride as usize).collect();
+    let caster = scene.shared().caster;
+    let sample = params.round * params.samples_per_round;
+    let per_group = chosen.len().div_ceil(groups.max(1) as usize).max(1);
+    chosen
+        .chunks(per_group)
+        .map(|pixels| {
+            let lists: Vec<Vec<Ray>> = pixels
+                .iter()
+                .map(|&pixel| {
+                    let log = Logged::new(caster);
+                    shared::path_tracer::pixel_sample(params, scene.with_caster(&log), pixel, sample);
+                    log.into_rays()
+                })
+                .collect();
+            RayLog::from_lists(&lists)
+        })
+        .collect()
 }
 
 /// A timed replay of a [`RayLog`] on the device.
