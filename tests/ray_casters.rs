@@ -167,6 +167,33 @@ fn every_caster_answers_every_query_alike() {
         assert_eq!(exact.differ, 0, "{}: the shared and obvhs traversals disagree", scene.name);
         assert!(exact.ties * 1000 <= rays.len(), "{}: {} ties", scene.name, exact.ties);
         assert!(exact.hits * 4 > rays.len(), "{}: the queries should mostly hit", scene.name);
+        // A batch (the path tracer's wavefront; Embree's packets of 16) answers each query as
+        // the caster does alone, through either CPU caster.
+        for caster in [host, obvhs] {
+            let (closest, occlusion): (Vec<&Ray>, Vec<&Ray>) =
+                rays.iter().partition(|r| r.kind == RAY_CLOSEST);
+            let query = |r: &&Ray| smlt::caster::Query {
+                origin: Vec3::from_array(r.origin),
+                direction: Vec3::from_array(r.direction),
+                tmin: r.tmin,
+                tmax: r.tmax,
+                key: r.key,
+            };
+            let mut hits = vec![Hit::NONE; closest.len()];
+            caster.closest_hits(&closest.iter().map(query).collect::<Vec<_>>(), &mut hits);
+            assert!(
+                hits.iter().zip(&closest).all(|(h, r)| *h == answer(&caster, r)),
+                "{}",
+                caster.describe()
+            );
+            let mut blocked = vec![false; occlusion.len()];
+            caster.occluded_all(&occlusion.iter().map(query).collect::<Vec<_>>(), &mut blocked);
+            assert!(
+                blocked.iter().zip(&occlusion).all(|(b, r)| *b == (answer(&caster, r).t == 0.0)),
+                "{}",
+                caster.describe()
+            );
+        }
         if let smlt::caster::HostCaster::Embree(_) = host {
             let embree_answers: Vec<Hit> = rays.iter().map(|r| answer(&host, r)).collect();
             let e = compare(&shared_answers, &embree_answers, &rays, diagonal);

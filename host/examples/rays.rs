@@ -12,7 +12,7 @@
 use std::time::Instant;
 
 use glam::{Vec3, Vec3A};
-use shared::ray_caster::{RayCaster, NO_HIT};
+use shared::ray_caster::{Hit, RayCaster, NO_HIT};
 use smlt::scene::SceneData;
 
 fn main() -> anyhow::Result<()> {
@@ -104,54 +104,48 @@ fn main() -> anyhow::Result<()> {
     // Embree's packet traversal over the same rays, sixteen at a time, and how many of its hits
     // are the single rays' (not timed).
     if let smlt::caster::HostCaster::Embree(embree) = host {
-        use smlt::caster::PACKET;
-        let packets: Vec<&[(Vec3, Vec3); PACKET]> = queries.as_chunks::<PACKET>().0.iter().collect();
+        use smlt::caster::{Query, PACKET};
+        let query =
+            |(o, d): (Vec3, Vec3), tmin: f32| Query { origin: o, direction: d, tmin, tmax: NO_HIT, key: 0 };
+        let batch: Vec<Query> = queries.iter().map(|&r| query(r, tmin)).collect();
+        let mut found = vec![Hit::NONE; batch.len()];
         let start = Instant::now();
-        let hits: usize = packets
-            .iter()
-            .map(|p| embree.closest_hits16(p, tmin, NO_HIT).iter().filter(|h| h.found()).count())
-            .sum();
+        embree.closest_hits(&batch, &mut found);
         let seconds = start.elapsed().as_secs_f64();
-        let n = packets.len() * PACKET;
-        let same: usize = packets
+        let hits = found.iter().filter(|h| h.found()).count();
+        let same = found
             .iter()
-            .map(|p| {
-                let found = embree.closest_hits16(p, tmin, NO_HIT);
-                found
-                    .iter()
-                    .zip(p.iter())
-                    .filter(|(h, (o, d))| **h == host.closest_hit(*o, *d, tmin, NO_HIT, 0))
-                    .count()
-            })
-            .sum();
+            .zip(&batch)
+            .filter(|(h, q)| **h == host.closest_hit(q.origin, q.direction, tmin, NO_HIT, 0))
+            .count();
         let label = "Embree packets of 16 (rtcIntersect16)";
         println!(
-            "  {label:<44} {:>7.2} M rays/s ({hits} hits; {same} of {n} as single rays)",
-            n as f64 / seconds / 1e6
+            "  {label:<44} {:>7.2} M rays/s ({hits} hits; {same} of {} as single rays)",
+            batch.len() as f64 / seconds / 1e6,
+            batch.len()
         );
         // Camera rays, coherent: the first view at 1024×576, a 4×4 tile of pixels a packet.
         let (w, h) = (1024u32, 576u32);
         let camera = scene.camera(w, h);
-        let tiles: Vec<[(Vec3, Vec3); PACKET]> = (0..h / 4)
+        let tiles: Vec<Query> = (0..h / 4)
             .flat_map(|ty| (0..w / 4).map(move |tx| (tx, ty)))
-            .map(|(tx, ty)| {
-                std::array::from_fn(|i| {
-                    let (x, y) = (4 * tx + i as u32 % 4, 4 * ty + i as u32 / 4);
-                    (camera.origin(), camera.direction(x as f32 + 0.5, y as f32 + 0.5))
+            .flat_map(|(tx, ty)| {
+                (0..PACKET as u32).map(move |i| {
+                    let (x, y) = (4 * tx + i % 4, 4 * ty + i / 4);
+                    query((camera.origin(), camera.direction(x as f32 + 0.5, y as f32 + 0.5)), 0.0)
                 })
             })
             .collect();
-        let n = tiles.len() * PACKET;
+        let n = tiles.len();
         let start = Instant::now();
         let single =
-            tiles.iter().flatten().filter(|(o, d)| host.closest_hit(*o, *d, 0.0, NO_HIT, 0).found()).count();
+            tiles.iter().filter(|q| host.closest_hit(q.origin, q.direction, 0.0, NO_HIT, 0).found()).count();
         let single_rate = n as f64 / start.elapsed().as_secs_f64() / 1e6;
+        let mut found = vec![Hit::NONE; n];
         let start = Instant::now();
-        let packed: usize = tiles
-            .iter()
-            .map(|p| embree.closest_hits16(p, 0.0, NO_HIT).iter().filter(|h| h.found()).count())
-            .sum();
+        embree.closest_hits(&tiles, &mut found);
         let packed_rate = n as f64 / start.elapsed().as_secs_f64() / 1e6;
+        let packed = found.iter().filter(|h| h.found()).count();
         println!("  {:<44} {single_rate:>7.2} M rays/s ({single} hits)", "camera rays, one at a time");
         println!("  {:<44} {packed_rate:>7.2} M rays/s ({packed} hits)", "camera rays, 4×4 tiles of 16")
     }

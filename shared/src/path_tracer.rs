@@ -11,21 +11,25 @@
 //! Random numbers are keyed by (seed, pixel, sample, vertex), so the device and the CPU compute
 //! the same estimate. The path itself ([`trace_path`]) takes its uniforms from a
 //! [`PathSamples`] source, so that a Metropolis chain can drive the same estimator
-//! (`crate::pssmlt`).
+//! (`crate::pssmlt`). It is a [`PathState`] stepped from one ray query to the next, so that a
+//! driver may also advance many paths together and cast a bounce's rays of all of them at once
+//! (the CPU backend's wavefront, `host/src/passes/path_tracer.rs`).
 
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
 use glam::{Vec2, Vec3};
 
+use crate::bsdf::Material;
 use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample, medium_coefficient, transmittance};
 use crate::camera::Camera;
 use crate::cutout::blend_key;
 use crate::light::emitted;
 use crate::light::{is_environment, is_punctual, punctual_index, sample_light};
 use crate::normals::scattering_cosine;
+use crate::normals::Normals;
 use crate::ray_caster::spawn;
-use crate::ray_caster::RayCaster;
+use crate::ray_caster::{Hit, RayCaster};
 use crate::rng::{self, RngKey};
 use crate::scene::Scene;
 use crate::surface::{material_at, normals_at};
@@ -157,79 +161,223 @@ pub struct PathEstimate {
     pub vertices: u32,
 }
 
-/// One path-traced estimate of the radiance arriving through raster point (`x`, `y`), with
-/// the vertices' uniforms from `samples`.
-#[inline]
-pub fn trace_path<R: RayCaster, S: PathSamples>(
-    settings: &PathSettings,
-    scene: Scene<R>,
-    (x, y): (f32, f32),
-    samples: &S,
-) -> PathEstimate {
-    let cam = settings.camera;
-    let mut d = cam.direction(x, y);
-    let mut origin = cam.origin();
-    let mut beta = Vec3::ONE;
-    let mut radiance = Vec3::ZERO;
-    let mut pdf_bsdf_prev = 0.0f32;
+/// A path between two of its ray queries: the segment it casts next, and what it carries from
+/// vertex to vertex. [`trace_path`] drives one path through its queries one at a time; the CPU
+/// backend drives many at once (`host::passes::path_tracer`), casting a bounce's rays of all of
+/// them together, with the same arithmetic for each path in the same order.
+#[derive(Clone, Copy)]
+pub struct PathState {
+    /// Origin of the segment to cast next.
+    pub origin: Vec3,
+    /// Unit direction of the segment to cast next.
+    pub direction: Vec3,
+    /// The key of the segment's cut-out draws: from the uniforms that chose its direction.
+    pub key: u32,
+    /// Whether the path goes on (a segment to cast).
+    pub alive: bool,
+    beta: Vec3,
+    radiance: Vec3,
+    pdf_bsdf_prev: f32,
     // The last bounce was a delta lobe: its emission reached is not light sampling's too.
-    let mut delta_prev = false;
+    delta_prev: bool,
     // Beer–Lambert coefficient of the medium the current segment runs through.
-    let mut sigma = Vec3::ZERO;
-    let mut vertices = 0u32;
-    // The key of the segment's cut-out draws: from the uniforms that chose its direction.
-    let mut key = blend_key(Vec2::new(x, y));
-    let mut v = 1u32;
-    while v <= settings.max_depth + 1 {
-        let hit = scene.caster.closest_hit(origin, d, 0.0, NO_HIT, key);
+    sigma: Vec3,
+    vertices: u32,
+    v: u32,
+}
+
+/// A light sample's shadow ray from a path's vertex, and what it adds to the path's radiance when
+/// nothing blocks it ([`PathState::resolve`]): `scale · (cos · w / pdf)`, w the power heuristic
+/// of `pdf` against the BSDF's density of the sample (1 for a delta light), evaluated only then:
+/// most shadow rays of an interior are blocked.
+#[derive(Clone, Copy)]
+pub struct ShadowRay {
+    /// Whether there is a ray to cast (false: the light sample adds nothing).
+    pub cast: bool,
+    #[allow(missing_docs)] // with direction and tmax: the segment o + t·d, 0 < t < tmax
+    pub origin: Vec3,
+    #[allow(missing_docs)]
+    pub direction: Vec3,
+    #[allow(missing_docs)]
+    pub tmax: f32,
+    /// The key of its cut-out draws.
+    pub key: u32,
+    scale: Vec3,
+    cosine: f32,
+    pdf: f32,
+    // Multiple importance sampling against the BSDF (not for a delta light).
+    weighted: bool,
+    material: Material,
+    normals: Normals,
+    wo: Vec3,
+    wi: Vec3,
+}
+
+impl ShadowRay {
+    /// No shadow ray.
+    #[inline]
+    pub fn none() -> Self {
+        ShadowRay {
+            cast: false,
+            origin: Vec3::ZERO,
+            direction: Vec3::Z,
+            tmax: 0.0,
+            key: 0,
+            scale: Vec3::ZERO,
+            cosine: 0.0,
+            pdf: 0.0,
+            weighted: false,
+            material: Material::default(),
+            normals: Normals::flat(Vec3::Z),
+            wo: Vec3::Z,
+            wi: Vec3::Z,
+        }
+    }
+}
+
+impl PathState {
+    /// A path from the camera through raster point (`x`, `y`).
+    #[inline]
+    pub fn start(settings: &PathSettings, (x, y): (f32, f32)) -> Self {
+        let cam = settings.camera;
+        PathState {
+            origin: cam.origin(),
+            direction: cam.direction(x, y),
+            key: blend_key(Vec2::new(x, y)),
+            alive: true,
+            beta: Vec3::ONE,
+            radiance: Vec3::ZERO,
+            pdf_bsdf_prev: 0.0,
+            delta_prev: false,
+            sigma: Vec3::ZERO,
+            vertices: 0,
+            v: 1,
+        }
+    }
+
+    /// What the path found so far.
+    #[inline]
+    pub fn estimate(&self) -> PathEstimate {
+        PathEstimate { radiance: self.radiance, vertices: self.vertices }
+    }
+
+    /// Takes the answer to the path's segment (`hit`, its closest hit): adds the emission it
+    /// reached, then at the vertex samples a light (the shadow ray returned, for
+    /// [`PathState::resolve`]) and the BSDF for the next segment, or ends the path
+    /// ([`PathState::alive`] false).
+    #[inline]
+    pub fn scatter<R: RayCaster, S: PathSamples>(
+        &mut self,
+        settings: &PathSettings,
+        scene: &Scene<R>,
+        hit: Hit,
+        samples: &S,
+    ) -> ShadowRay {
+        let (origin, d, v) = (self.origin, self.direction, self.v);
         if !hit.found() {
             // The environment, reached by this segment (not from inside a medium, whose
             // transmittance over an unbounded distance is 0); after a BSDF sample it competes
             // with the previous vertex's light sample.
             let env = scene.environment;
-            if env.is_present() && !(sigma.max_element() > 0.0) {
+            if env.is_present() && !(self.sigma.max_element() > 0.0) {
                 let le = env.radiance(scene.environment_map, d);
-                let weight = if v == 1 || delta_prev {
+                let weight = if v == 1 || self.delta_prev {
                     1.0
                 } else {
-                    power_heuristic(pdf_bsdf_prev, env.pick * env.pdf(scene.environment_map, d))
+                    power_heuristic(self.pdf_bsdf_prev, env.pick * env.pdf(scene.environment_map, d))
                 };
-                radiance += beta * le * weight;
+                self.radiance += self.beta * le * weight;
             }
-            break;
+            self.alive = false;
+            return ShadowRay::none();
         }
         let tri = scene.triangles[hit.triangle as usize];
         let p = origin + d * hit.t;
-        let m = material_at(&scene, hit.triangle, p);
-        let normals = normals_at(&scene, hit.triangle, p);
+        let m = material_at(scene, hit.triangle, p);
+        let normals = normals_at(scene, hit.triangle, p);
         // The geometric normal: emission, offsets, media (`crate::normals`); the BSDF and its
         // cosine take both.
         let n = normals.geometric;
         let wo = -d;
-        if sigma.max_element() > 0.0 {
-            beta *= transmittance(sigma, hit.t);
+        if self.sigma.max_element() > 0.0 {
+            self.beta *= transmittance(self.sigma, hit.t);
         }
         // Emission reached by this segment; after a BSDF sample it competes with the previous
         // vertex's light sample.
         if m.is_emissive() {
             let le = emitted(Vec3::from_array(m.emission), n, wo);
-            let weight = if v == 1 || delta_prev {
+            let weight = if v == 1 || self.delta_prev {
                 1.0
             } else {
                 let cos_l = n.dot(wo).abs();
                 let pdf_light = if cos_l > 0.0 { tri.light_area_pdf * hit.t * hit.t / cos_l } else { 0.0 };
-                power_heuristic(pdf_bsdf_prev, pdf_light)
+                power_heuristic(self.pdf_bsdf_prev, pdf_light)
             };
-            radiance += beta * le * weight;
+            self.radiance += self.beta * le * weight;
         }
         if v > settings.max_depth {
-            break;
+            self.alive = false;
+            return ShadowRay::none();
         }
         let u = samples.vertex(v);
-        vertices = v;
-        // Next-event estimation: one light sample from this vertex.
-        let ls = sample_light(&scene, settings.light_count, u[0], Vec2::new(u[1], u[2]));
-        let shadow_key = blend_key(Vec2::new(u[1], u[2]));
+        self.vertices = v;
+        let shadow = self.light_sample(settings, scene, (p, m, normals, wo), u);
+        // Continue by sampling the BSDF.
+        let bs = bsdf_sample(&m, normals, wo, Vec2::new(u[3], u[4]), true);
+        if !(bs.pdf > 0.0) {
+            self.alive = false;
+            return shadow;
+        }
+        self.beta *= bs.f * (scattering_cosine(normals, wo, bs.wi, true) / bs.pdf);
+        if v >= ROULETTE_DEPTH {
+            let q = continuation_probability(self.beta);
+            if !(u[5] < q) {
+                self.alive = false;
+                return shadow;
+            }
+            self.beta /= q;
+        }
+        self.pdf_bsdf_prev = bs.pdf;
+        self.delta_prev = bs.delta;
+        self.sigma = medium_coefficient(&m, n, bs.wi);
+        self.origin = spawn(p, n, bs.wi, settings.epsilon);
+        self.direction = bs.wi;
+        self.key = blend_key(Vec2::new(u[3], u[4]));
+        self.v = v + 1;
+        shadow
+    }
+
+    /// Next-event estimation from the vertex at `p` (material `m`, `normals`, towards the
+    /// previous vertex `wo`): one light sample with the uniforms `u`, and its shadow ray.
+    #[inline]
+    fn light_sample<R: RayCaster>(
+        &self,
+        settings: &PathSettings,
+        scene: &Scene<R>,
+        (p, m, normals, wo): (Vec3, Material, Normals, Vec3),
+        u: [f32; 6],
+    ) -> ShadowRay {
+        let n = normals.geometric;
+        let ls = sample_light(scene, settings.light_count, u[0], Vec2::new(u[1], u[2]));
+        let key = blend_key(Vec2::new(u[1], u[2]));
+        let shadow =
+            |origin: Vec3, direction: Vec3, tmax: f32, scale: Vec3, wi: Vec3, pdf: f32, weighted: bool| {
+                ShadowRay {
+                    cast: true,
+                    origin,
+                    direction,
+                    tmax,
+                    key,
+                    scale,
+                    cosine: scattering_cosine(normals, wo, wi, true),
+                    pdf,
+                    weighted,
+                    material: m,
+                    normals,
+                    wo,
+                    wi,
+                }
+            };
         if is_environment(ls.light) {
             // A direction towards the environment: a shadow ray out of the scene's bounds.
             let wi = -ls.n;
@@ -237,13 +385,7 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
             if ls.emission.max_element() > 0.0 && f.max_element() > 0.0 && ls.pdf_area > 0.0 {
                 let from = spawn(p, n, wi, settings.epsilon);
                 let reach = (scene.environment.beyond(from, wi) - from).length();
-                if !scene.caster.occluded(from, wi, 0.0, reach, shadow_key) {
-                    let weight = power_heuristic(ls.pdf_area, bsdf_pdf(&m, normals, wo, wi));
-                    radiance += beta
-                        * f
-                        * ls.emission
-                        * (scattering_cosine(normals, wo, wi, true) * weight / ls.pdf_area);
-                }
+                return shadow(from, wi, reach, self.beta * f * ls.emission, wi, ls.pdf_area, true);
             }
         } else if is_punctual(ls.light) {
             // A delta light: no BSDF sample finds it, so the light sample takes it all.
@@ -253,9 +395,16 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
                 let from = spawn(p, n, inc.wi, settings.epsilon);
                 let span = inc.from - from;
                 let len = span.length();
-                if len > 0.0 && !scene.caster.occluded(from, span / len, 0.0, len, shadow_key) {
-                    radiance +=
-                        beta * f * inc.radiance * (scattering_cosine(normals, wo, inc.wi, true) / ls.pick);
+                if len > 0.0 {
+                    return shadow(
+                        from,
+                        span / len,
+                        len,
+                        self.beta * f * inc.radiance,
+                        inc.wi,
+                        ls.pick,
+                        false,
+                    );
                 }
             }
         } else {
@@ -274,36 +423,50 @@ pub fn trace_path<R: RayCaster, S: PathSamples>(
                     let target = spawn(q, nq, -wl, settings.epsilon);
                     let span = target - from;
                     let len = span.length();
-                    if !scene.caster.occluded(from, span / len, 0.0, len, shadow_key) {
-                        let weight = power_heuristic(pdf_light, bsdf_pdf(&m, normals, wo, wl));
-                        radiance +=
-                            beta * f * le * (scattering_cosine(normals, wo, wl, true) * weight / pdf_light);
-                    }
+                    return shadow(from, span / len, len, self.beta * f * le, wl, pdf_light, true);
                 }
             }
         }
-        // Continue by sampling the BSDF.
-        let bs = bsdf_sample(&m, normals, wo, Vec2::new(u[3], u[4]), true);
-        if !(bs.pdf > 0.0) {
-            break;
-        }
-        beta *= bs.f * (scattering_cosine(normals, wo, bs.wi, true) / bs.pdf);
-        if v >= ROULETTE_DEPTH {
-            let q = continuation_probability(beta);
-            if !(u[5] < q) {
-                break;
-            }
-            beta /= q;
-        }
-        pdf_bsdf_prev = bs.pdf;
-        delta_prev = bs.delta;
-        sigma = medium_coefficient(&m, n, bs.wi);
-        origin = spawn(p, n, bs.wi, settings.epsilon);
-        d = bs.wi;
-        key = blend_key(Vec2::new(u[3], u[4]));
-        v += 1;
+        ShadowRay::none()
     }
-    PathEstimate { radiance, vertices }
+
+    /// Takes the answer to `shadow`'s ray: its light when nothing blocks it.
+    #[inline]
+    pub fn resolve(&mut self, shadow: &ShadowRay, occluded: bool) {
+        if !shadow.cast || occluded {
+            return;
+        }
+        let weight = if shadow.weighted {
+            // A local copy: the device cannot pass a pointer into a struct to a function.
+            let m = shadow.material;
+            power_heuristic(shadow.pdf, bsdf_pdf(&m, shadow.normals, shadow.wo, shadow.wi))
+        } else {
+            1.0
+        };
+        self.radiance += shadow.scale * (shadow.cosine * weight / shadow.pdf);
+    }
+}
+
+/// One path-traced estimate of the radiance arriving through raster point (`x`, `y`), with
+/// the vertices' uniforms from `samples`: the path's queries one at a time.
+#[inline]
+pub fn trace_path<R: RayCaster, S: PathSamples>(
+    settings: &PathSettings,
+    scene: Scene<R>,
+    at: (f32, f32),
+    samples: &S,
+) -> PathEstimate {
+    let mut path = PathState::start(settings, at);
+    while path.alive {
+        let hit = scene.caster.closest_hit(path.origin, path.direction, 0.0, NO_HIT, path.key);
+        let shadow = path.scatter(settings, &scene, hit, samples);
+        if shadow.cast {
+            let occluded =
+                scene.caster.occluded(shadow.origin, shadow.direction, 0.0, shadow.tmax, shadow.key);
+            path.resolve(&shadow, occluded);
+        }
+    }
+    path.estimate()
 }
 
 /// One path-traced estimate of the radiance through a uniform point of pixel `pixel`.

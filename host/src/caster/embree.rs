@@ -22,6 +22,8 @@ use std::sync::OnceLock;
 use glam::Vec3;
 use shared::cutout::Cutouts;
 use shared::ray_caster::{Hit, NO_HIT};
+
+use super::Query;
 use shared::triangle::{Triangle, TriangleEdges};
 
 type Handle = *mut c_void;
@@ -58,7 +60,7 @@ struct RayHit {
     hit: HitRecord,
 }
 
-/// Lanes of a ray packet ([`EmbreeCaster::closest_hits16`]).
+/// Lanes of a ray packet ([`EmbreeCaster::closest_hits`]).
 pub const PACKET: usize = 16;
 
 /// A packet query's mask: −1 for a lane to cast, 0 for one to leave; aligned as Embree wants it.
@@ -83,6 +85,20 @@ struct RayHit16 {
     prim_id: [u32; PACKET],
     geom_id: [u32; PACKET],
     inst_id: [u32; PACKET],
+}
+
+/// `RTCRay16`: a packet of rays without hits (SoA), for `rtcOccluded16`.
+#[repr(C, align(64))]
+#[derive(Clone, Copy)]
+struct Ray16 {
+    org: [[f32; PACKET]; 3],
+    tnear: [f32; PACKET],
+    dir: [[f32; PACKET]; 3],
+    time: [f32; PACKET],
+    tfar: [f32; PACKET],
+    mask: [u32; PACKET],
+    id: [u32; PACKET],
+    flags: [u32; PACKET],
 }
 
 #[repr(C)]
@@ -142,6 +158,7 @@ struct Api {
     intersect1: unsafe extern "C" fn(Handle, *mut IntersectContext, *mut RayHit),
     occluded1: unsafe extern "C" fn(Handle, *mut IntersectContext, *mut Ray),
     intersect16: unsafe extern "C" fn(*const i32, Handle, *mut IntersectContext, *mut RayHit16),
+    occluded16: unsafe extern "C" fn(*const i32, Handle, *mut IntersectContext, *mut Ray16),
     /// Keeps the library mapped while the entry points are used.
     _library: libloading::Library,
 }
@@ -176,6 +193,7 @@ impl Api {
                 intersect1: entry!("rtcIntersect1"),
                 occluded1: entry!("rtcOccluded1"),
                 intersect16: entry!("rtcIntersect16"),
+                occluded16: entry!("rtcOccluded16"),
                 _library: library,
             })
         }
@@ -382,48 +400,110 @@ impl EmbreeCaster<'_> {
         }
     }
 
-    /// The closest hits of [`PACKET`] rays at once, each in (tmin, tmax), through Embree's
-    /// packet traversal (`rtcIntersect16`): the ray-casting ceiling a wavefront path tracer
-    /// could reach (`host/examples/rays.rs` measures it against single rays). A scene with
-    /// cut-outs, whose filter reads one key a query, and rays Embree would not take are cast
-    /// one at a time.
-    pub fn closest_hits16(&self, rays: &[(Vec3, Vec3); PACKET], tmin: f32, tmax: f32) -> [Hit; PACKET] {
-        let takes = rays.iter().all(|(o, d)| EmbreeScene::takes(*o, *d, tmin, tmax));
-        if !self.scene.slots[1].is_empty() || !takes {
-            return rays.map(|(o, d)| self.closest_hit(o, d, tmin, tmax, 0));
+    /// The closest hits of `queries`, each in its (tmin, tmax), into `hits`: 16 at a time
+    /// through Embree's packet traversal (`rtcIntersect16`), the packet's lanes independent rays
+    /// of as many paths (`host/examples/rays.rs` measures it against single rays). A scene with cut-outs, whose filter reads one key a query, is
+    /// cast one ray at a time; a ray Embree would not take hits nothing, as in
+    /// [`EmbreeCaster::closest_hit`].
+    pub fn closest_hits(&self, queries: &[Query], hits: &mut [Hit]) {
+        if !self.scene.slots[1].is_empty() {
+            for (q, h) in queries.iter().zip(hits.iter_mut()) {
+                *h = self.closest_hit(q.origin, q.direction, q.tmin, q.tmax, q.key);
+            }
+            return;
         }
-        let mut packet = RayHit16 {
-            org: [[0.0; PACKET]; 3],
-            tnear: [tmin; PACKET],
-            dir: [[0.0; PACKET]; 3],
-            time: [0.0; PACKET],
-            tfar: [tmax.next_down(); PACKET],
-            mask: [u32::MAX; PACKET],
-            id: [0; PACKET],
-            flags: [0; PACKET],
-            ng: [[0.0; PACKET]; 3],
-            u: [0.0; PACKET],
-            v: [0.0; PACKET],
-            prim_id: [INVALID_ID; PACKET],
-            geom_id: [INVALID_ID; PACKET],
-            inst_id: [INVALID_ID; PACKET],
-        };
-        for (lane, (o, d)) in rays.iter().enumerate() {
-            for (axis, (o, d)) in o.to_array().into_iter().zip(d.to_array()).enumerate() {
-                packet.org[axis][lane] = o;
-                packet.dir[axis][lane] = d;
+        let scene = self.scene;
+        for (queries, hits) in queries.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
+            let mut packet = RayHit16 {
+                org: [[0.0; PACKET]; 3],
+                tnear: [0.0; PACKET],
+                dir: [[0.0; PACKET]; 3],
+                time: [0.0; PACKET],
+                tfar: [0.0; PACKET],
+                mask: [u32::MAX; PACKET],
+                id: [0; PACKET],
+                flags: [0; PACKET],
+                ng: [[0.0; PACKET]; 3],
+                u: [0.0; PACKET],
+                v: [0.0; PACKET],
+                prim_id: [INVALID_ID; PACKET],
+                geom_id: [INVALID_ID; PACKET],
+                inst_id: [INVALID_ID; PACKET],
+            };
+            let mut valid = Valid([0; PACKET]);
+            for (lane, q) in queries.iter().enumerate() {
+                if !EmbreeScene::takes(q.origin, q.direction, q.tmin, q.tmax) {
+                    continue;
+                }
+                valid.0[lane] = -1;
+                for axis in 0..3 {
+                    packet.org[axis][lane] = q.origin[axis];
+                    packet.dir[axis][lane] = q.direction[axis];
+                }
+                packet.tnear[lane] = q.tmin;
+                packet.tfar[lane] = q.tmax.next_down();
+            }
+            let mut context = self.context(0);
+            // SAFETY: a committed scene, a context that begins with Embree's, a lane mask and a
+            // packet, each laid out and aligned (64 bytes) as Embree's; invalid lanes are not
+            // read.
+            unsafe {
+                (scene.api.intersect16)(valid.0.as_ptr(), scene.scene, &mut context.embree, &mut packet)
+            };
+            for (lane, h) in hits.iter_mut().enumerate() {
+                *h = match scene.slots.get(packet.geom_id[lane] as usize) {
+                    Some(slots) if valid.0[lane] != 0 => {
+                        Hit { t: packet.tfar[lane], triangle: slots[packet.prim_id[lane] as usize] }
+                    }
+                    _ => Hit { t: NO_HIT, triangle: 0 },
+                };
             }
         }
-        let valid = Valid([-1; PACKET]);
-        let mut context = self.context(0);
+    }
+
+    /// Whether anything blocks each of `queries` in its (tmin, tmax), into `blocked`: 16 at a time
+    /// through `rtcOccluded16`, as [`EmbreeCaster::closest_hits`] casts.
+    pub fn occluded_all(&self, queries: &[Query], blocked: &mut [bool]) {
+        if !self.scene.slots[1].is_empty() {
+            for (q, b) in queries.iter().zip(blocked.iter_mut()) {
+                *b = self.occluded(q.origin, q.direction, q.tmin, q.tmax, q.key);
+            }
+            return;
+        }
         let scene = self.scene;
-        // SAFETY: a committed scene, a context that begins with Embree's, a mask of every lane
-        // valid and a packet, each laid out and aligned (64 bytes) as Embree's.
-        unsafe { (scene.api.intersect16)(valid.0.as_ptr(), scene.scene, &mut context.embree, &mut packet) };
-        std::array::from_fn(|lane| match scene.slots.get(packet.geom_id[lane] as usize) {
-            Some(slots) => Hit { t: packet.tfar[lane], triangle: slots[packet.prim_id[lane] as usize] },
-            None => Hit { t: NO_HIT, triangle: 0 },
-        })
+        for (queries, blocked) in queries.chunks(PACKET).zip(blocked.chunks_mut(PACKET)) {
+            let mut packet = Ray16 {
+                org: [[0.0; PACKET]; 3],
+                tnear: [0.0; PACKET],
+                dir: [[0.0; PACKET]; 3],
+                time: [0.0; PACKET],
+                tfar: [0.0; PACKET],
+                mask: [u32::MAX; PACKET],
+                id: [0; PACKET],
+                flags: [0; PACKET],
+            };
+            let mut valid = Valid([0; PACKET]);
+            for (lane, q) in queries.iter().enumerate() {
+                if !EmbreeScene::takes(q.origin, q.direction, q.tmin, q.tmax) {
+                    continue;
+                }
+                valid.0[lane] = -1;
+                for axis in 0..3 {
+                    packet.org[axis][lane] = q.origin[axis];
+                    packet.dir[axis][lane] = q.direction[axis];
+                }
+                packet.tnear[lane] = q.tmin;
+                packet.tfar[lane] = q.tmax.next_down();
+            }
+            let mut context = self.context(0);
+            // SAFETY: as for closest_hits; Embree sets a blocked lane's tfar to −∞.
+            unsafe {
+                (scene.api.occluded16)(valid.0.as_ptr(), scene.scene, &mut context.embree, &mut packet)
+            };
+            for (lane, b) in blocked.iter_mut().enumerate() {
+                *b = valid.0[lane] != 0 && packet.tfar[lane] == f32::NEG_INFINITY;
+            }
+        }
     }
 
     /// Whether anything blocks the ray in (tmin, tmax), BLEND cut-outs drawn by `key`.

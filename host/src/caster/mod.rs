@@ -22,7 +22,48 @@ pub enum HostCaster<'a> {
     Obvhs(ObvhsCaster<'a>),
 }
 
+/// A ray query of a batch: the segment o + t·d for tmin < t < tmax, its cut-outs drawn by `key`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Query {
+    #[allow(missing_docs)] // with direction, tmin and tmax: the segment
+    pub origin: Vec3,
+    /// A unit vector.
+    pub direction: Vec3,
+    #[allow(missing_docs)]
+    pub tmin: f32,
+    #[allow(missing_docs)]
+    pub tmax: f32,
+    #[allow(missing_docs)] // as RayCaster's
+    pub key: u32,
+}
+
 impl HostCaster<'_> {
+    /// The closest hits of a batch of independent queries, into `hits` (as many): Embree's
+    /// packets, or one at a time. The answers are [`RayCaster::closest_hit`]'s.
+    pub fn closest_hits(&self, queries: &[Query], hits: &mut [Hit]) {
+        match self {
+            HostCaster::Embree(e) => e.closest_hits(queries, hits),
+            HostCaster::Obvhs(c) => {
+                for (q, h) in queries.iter().zip(hits.iter_mut()) {
+                    *h = c.closest_hit(q.origin, q.direction, q.tmin, q.tmax, q.key);
+                }
+            }
+        }
+    }
+
+    /// Whether anything blocks each of a batch of independent queries, into `blocked` (as
+    /// many): Embree's packets, or one at a time. The answers are [`RayCaster::occluded`]'s.
+    pub fn occluded_all(&self, queries: &[Query], blocked: &mut [bool]) {
+        match self {
+            HostCaster::Embree(e) => e.occluded_all(queries, blocked),
+            HostCaster::Obvhs(c) => {
+                for (q, b) in queries.iter().zip(blocked.iter_mut()) {
+                    *b = c.occluded(q.origin, q.direction, q.tmin, q.tmax, q.key);
+                }
+            }
+        }
+    }
+
     /// The caster in words (for the render's device line).
     pub fn describe(&self) -> &'static str {
         match self {

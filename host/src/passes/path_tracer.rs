@@ -1,15 +1,24 @@
-//! The `path_tracer` pass: binds its params, the scene and the f32 image; on
-//! the CPU the same per-pixel round runs over the pixels in parallel (each pixel is its own
-//! output, so the pixels are split among threads rather than walked in order).
+//! The `path_tracer` pass: binds its params, the scene and the f32 image. On the CPU the same
+//! round runs as a wavefront ([`round_batch`]): each thread advances [`BATCH`] paths together,
+//! casting a bounce's rays of all of them at once (Embree's 16-wide packets), each path with the
+//! device's arithmetic in the device's order (`shared::path_tracer::PathState`), so that the
+//! image is the one the per-pixel body (`pixel_round`) makes.
 
+use glam::Vec3;
 use rayon::prelude::*;
-use shared::path_tracer::PathTracerParams;
-use shared::ray_caster::RayCaster;
+use shared::path_tracer::{KeyedSamples, PathSamples, PathSettings, PathState, PathTracerParams, ShadowRay};
+use shared::ray_caster::Hit;
 use shared::scene::Scene;
+use shared::triangle::NO_HIT;
 
 use super::buffers::GpuBuffers;
 use super::{Named, Pass};
+use crate::caster::{HostCaster, Query};
 use crate::gpu::{Gpu, GpuError};
+
+/// Paths (pixels) a CPU thread advances together: enough to fill Embree's 16-wide packets while
+/// paths end, few enough that their states stay in the core's caches.
+pub const BATCH: usize = 64;
 
 /// The GPU pass: `params` (one `PathTracerParams`) and the render's scene and image.
 pub fn gpu(gpu: &Gpu, params: &wgpu::Buffer, b: &GpuBuffers) -> Result<Pass, GpuError> {
@@ -21,12 +30,94 @@ pub fn gpu(gpu: &Gpu, params: &wgpu::Buffer, b: &GpuBuffers) -> Result<Pass, Gpu
     Pass::new(gpu, ENTRY_POINT, BINDINGS, BINDS_SCENE, &find)
 }
 
-/// The same round on the CPU: adds one round of samples to every pixel of `image` (rgb).
-pub fn cpu<R: RayCaster + Sync>(params: &PathTracerParams, scene: Scene<R>, image: &mut [f32]) {
-    image.par_chunks_mut(3).enumerate().for_each(|(i, px)| {
-        let sum = shared::path_tracer::pixel_round(params, scene, i as u32);
-        px[0] += sum.x;
-        px[1] += sum.y;
-        px[2] += sum.z;
+/// The same round on the CPU: adds one round of samples to every pixel of `image` (rgb), the
+/// pixels in batches of [`BATCH`] split among the threads.
+pub fn cpu(params: &PathTracerParams, scene: Scene<HostCaster>, image: &mut [f32]) {
+    image.par_chunks_mut(3 * BATCH).enumerate().for_each(|(b, px)| {
+        let sums = round_batch(params, scene, (b * BATCH) as u32, px.len() / 3);
+        for (px, sum) in px.chunks_mut(3).zip(sums) {
+            px[0] += sum.x;
+            px[1] += sum.y;
+            px[2] += sum.z;
+        }
     });
+}
+
+/// `params.samples` samples of each of the `count` pixels from `first` on, summed
+/// per pixel as `shared::path_tracer::pixel_round` sums them: sample by sample, each a
+/// wavefront over the pixels' paths — all their segments cast, then all their shadow rays, then
+/// the next bounce of those that go on.
+pub fn round_batch(
+    params: &PathTracerParams,
+    scene: Scene<HostCaster>,
+    first: u32,
+    count: usize,
+) -> Vec<Vec3> {
+    let settings = PathSettings::from(params);
+    let mut sums = vec![Vec3::ZERO; count];
+    let mut samples = vec![KeyedSamples::new(0, 0, 0); count];
+    let mut paths = vec![PathState::start(&settings, (0.0, 0.0)); count];
+    let mut alive = vec![0usize; count];
+    let mut queries = vec![Query::default(); count];
+    let mut hits = vec![Hit::NONE; count];
+    let mut shadows = vec![ShadowRay::none(); count];
+    let mut casting = vec![0usize; count];
+    let mut blocked = vec![false; count];
+    for i in 0..params.samples {
+        let sample = params.round * params.samples_per_round + i;
+        for k in 0..count {
+            let pixel = first + k as u32;
+            samples[k] = KeyedSamples::new(params.seed, pixel, sample);
+            let jitter = samples[k].raster();
+            let x = (pixel % params.width) as f32 + jitter.x;
+            let y = (pixel / params.width) as f32 + jitter.y;
+            paths[k] = PathState::start(&settings, (x, y));
+            alive[k] = k;
+        }
+        let mut n = count;
+        while n > 0 {
+            for (q, &k) in queries.iter_mut().zip(&alive[..n]) {
+                let p = &paths[k];
+                *q = Query { origin: p.origin, direction: p.direction, tmin: 0.0, tmax: NO_HIT, key: p.key };
+            }
+            scene.caster.closest_hits(&queries[..n], &mut hits[..n]);
+            let mut m = 0;
+            for j in 0..n {
+                let k = alive[j];
+                shadows[j] = paths[k].scatter(&settings, &scene, hits[j], &samples[k]);
+                if shadows[j].cast {
+                    let s = &shadows[j];
+                    queries[m] = Query {
+                        origin: s.origin,
+                        direction: s.direction,
+                        tmin: 0.0,
+                        tmax: s.tmax,
+                        key: s.key,
+                    };
+                    casting[m] = j;
+                    m += 1;
+                }
+            }
+            scene.caster.occluded_all(&queries[..m], &mut blocked[..m]);
+            for (&j, &blocked) in casting[..m].iter().zip(&blocked[..m]) {
+                paths[alive[j]].resolve(&shadows[j], blocked);
+            }
+            let mut kept = 0;
+            for j in 0..n {
+                if paths[alive[j]].alive {
+                    alive[kept] = alive[j];
+                    kept += 1;
+                }
+            }
+            n = kept;
+        }
+        for (sum, path) in sums.iter_mut().zip(&paths[..count]) {
+            // A NaN or infinite sample is dropped, not averaged in.
+            let l = path.estimate().radiance;
+            if l.is_finite() {
+                *sum += l;
+            }
+        }
+    }
+    sums
 }
