@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The showcase: a spot lamp's caustic through a glass ball (the `caustic` scene), where a path
-# tracer fails outright, measured at equal time on the CPU backend — smlt's path tracer, the
-# multiplexed estimator (naive, s3), the path estimator, Mitsuba 3's and Cycles' path tracers — against
+# tracer fails outright, measured at equal time on the CPU backend — `--method auto` (its pilot's
+# time counted), smlt's path tracer, the multiplexed estimator (naive, s3), the path estimator,
+# Mitsuba 3's and Cycles' path tracers — against
 # a bidirectional reference; then the same view under a sky (`--environment`, the sky of
 # scripts/peers/check_environment.sh) beside its lamps. Writes OUT/lamp and OUT/sky (each the
 # bench's results.csv, tables.md and images, and all/ with Mitsuba's and Cycles' rows appended), OUT/caustic.png
@@ -85,7 +86,7 @@ OpenEXR.OutputFile(f"{view}/reference.exr", header).writePixels({c: mean[..., i]
 print(f"{view}: reference halves' means {a.mean():.5f}, {b.mean():.5f}; reference noise RMSE "
       f"{np.sqrt(((a - b) ** 2).mean()) / 2:.3e}")
 PY
-    "$smlt" bench --device cpu --scenes caustic --methods pt,naive,s3,path-naive --seconds "$seconds" \
+    "$smlt" bench --device cpu --scenes caustic --methods auto,pt,naive,s3,path-naive --seconds "$seconds" \
         --repeats "$repeats" "${size[@]}" "${env[@]}" --reference "$view/reference.exr" --out "$view" | tail -2
     peer_env=()
     [ "$view" = sky ] && peer_env=(--environment sky.hdr --environment-strength 0.1 --environment-rotation 40)
