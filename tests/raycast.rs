@@ -155,7 +155,9 @@ fn the_path_tracers_log_holds_each_paths_rays() {
         );
         assert!(closest.len() <= v || v == max_depth as usize, "pixel {pixel}: a ray past the last vertex");
         assert!(occlusion <= v, "pixel {pixel}");
-        assert_eq!(closest[0].kind, RAY_CLOSEST);
+        // The first ray is the path's camera ray, from the pinhole.
+        assert_eq!(rays[0].kind, RAY_CLOSEST, "pixel {pixel}");
+        assert_eq!(glam::Vec3::from_array(rays[0].origin), params.camera.origin(), "pixel {pixel}");
         assert!(closest.iter().all(|r| shared::rays::cast(&caster, r) > 0), "pixel {pixel}: a ray missed");
         at_limit += (closest.len() > v) as usize;
         shadow += occlusion;

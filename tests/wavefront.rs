@@ -3,7 +3,8 @@
 //! installed. Its image is the per-pixel body's (`shared::path_tracer::pixel_round`, the
 //! device's) bit for bit, through either CPU caster: on the default scene, on glass under a spot
 //! lamp, on glTF's BRDF with textures, on cut-outs (which Embree casts one ray at a time) and
-//! under an environment seen through glass.
+//! under an environment seen through glass. Embree's packet and single-ray traversals answer
+//! these queries alike (`tests/ray_casters.rs` checks batches query by query).
 
 mod common;
 
@@ -25,6 +26,11 @@ fn same_image(scene: &SceneData, label: &str) -> usize {
     assert!(!((width * height) as usize).is_multiple_of(BATCH));
     let params = render::path_tracer_params(scene, (width, height), 8, 11, 3);
     let mut lit = 0;
+    // Embree's packets are what this checks; CI installs Embree (scripts/setup.sh).
+    if let Some(why) = smlt::caster::embree_unavailable() {
+        assert_ne!(std::env::var("CI").as_deref(), Ok("true"), "CI=true and no Embree: {why}");
+        eprintln!("SKIPPED Embree's packets (obvhs twice): {why}");
+    }
     for (caster, view) in [("the CPU backend's caster", scene.shared()), ("obvhs", scene.obvhs_view())] {
         let mut wavefront = vec![0.0f32; (width * height * 3) as usize];
         cpu(&params, view, &mut wavefront);
