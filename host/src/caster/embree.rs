@@ -67,27 +67,7 @@ pub const PACKET: usize = 16;
 #[repr(C, align(64))]
 struct Valid([i32; PACKET]);
 
-/// `RTCRayHit16`: a packet of rays and their hits, each field a lane array (SoA).
-#[repr(C, align(64))]
-#[derive(Clone, Copy)]
-struct RayHit16 {
-    org: [[f32; PACKET]; 3],
-    tnear: [f32; PACKET],
-    dir: [[f32; PACKET]; 3],
-    time: [f32; PACKET],
-    tfar: [f32; PACKET],
-    mask: [u32; PACKET],
-    id: [u32; PACKET],
-    flags: [u32; PACKET],
-    ng: [[f32; PACKET]; 3],
-    u: [f32; PACKET],
-    v: [f32; PACKET],
-    prim_id: [u32; PACKET],
-    geom_id: [u32; PACKET],
-    inst_id: [u32; PACKET],
-}
-
-/// `RTCRay16`: a packet of rays without hits (SoA), for `rtcOccluded16`.
+/// `RTCRay16`: a packet of rays (SoA, each field a lane array), what `rtcOccluded16` takes.
 #[repr(C, align(64))]
 #[derive(Clone, Copy)]
 struct Ray16 {
@@ -99,6 +79,61 @@ struct Ray16 {
     mask: [u32; PACKET],
     id: [u32; PACKET],
     flags: [u32; PACKET],
+}
+
+/// `RTCHit16`: a packet's hits (SoA).
+#[repr(C, align(64))]
+#[derive(Clone, Copy)]
+struct Hit16 {
+    ng: [[f32; PACKET]; 3],
+    u: [f32; PACKET],
+    v: [f32; PACKET],
+    prim_id: [u32; PACKET],
+    geom_id: [u32; PACKET],
+    inst_id: [u32; PACKET],
+}
+
+/// `RTCRayHit16`: a packet of rays and their hits, what `rtcIntersect16` takes.
+#[repr(C, align(64))]
+#[derive(Clone, Copy)]
+struct RayHit16 {
+    ray: Ray16,
+    hit: Hit16,
+}
+
+// Embree's layouts: 12 and 8 lane arrays of 64 bytes.
+const _: () = assert!(std::mem::size_of::<Ray16>() == 768 && std::mem::size_of::<RayHit16>() == 1280);
+
+impl Ray16 {
+    /// The packet of up to [`PACKET`] queries, and its lane mask: a lane Embree would not take
+    /// (and a lane past the queries) is left out.
+    fn of(queries: &[Query]) -> (Ray16, Valid) {
+        let mut packet = Ray16 {
+            org: [[0.0; PACKET]; 3],
+            tnear: [0.0; PACKET],
+            dir: [[0.0; PACKET]; 3],
+            time: [0.0; PACKET],
+            tfar: [0.0; PACKET],
+            mask: [u32::MAX; PACKET],
+            id: [0; PACKET],
+            flags: [0; PACKET],
+        };
+        let mut valid = Valid([0; PACKET]);
+        for (lane, q) in queries.iter().enumerate().take(PACKET) {
+            if !EmbreeScene::takes(q.origin, q.direction, q.tmin, q.tmax) {
+                continue;
+            }
+            valid.0[lane] = -1;
+            for axis in 0..3 {
+                packet.org[axis][lane] = q.origin[axis];
+                packet.dir[axis][lane] = q.direction[axis];
+            }
+            packet.tnear[lane] = q.tmin;
+            // Embree accepts t = tfar; smlt's intervals are open.
+            packet.tfar[lane] = q.tmax.next_down();
+        }
+        (packet, valid)
+    }
 }
 
 #[repr(C)]
@@ -414,15 +449,8 @@ impl EmbreeCaster<'_> {
         }
         let scene = self.scene;
         for (queries, hits) in queries.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
-            let mut packet = RayHit16 {
-                org: [[0.0; PACKET]; 3],
-                tnear: [0.0; PACKET],
-                dir: [[0.0; PACKET]; 3],
-                time: [0.0; PACKET],
-                tfar: [0.0; PACKET],
-                mask: [u32::MAX; PACKET],
-                id: [0; PACKET],
-                flags: [0; PACKET],
+            let (ray, valid) = Ray16::of(queries);
+            let hit = Hit16 {
                 ng: [[0.0; PACKET]; 3],
                 u: [0.0; PACKET],
                 v: [0.0; PACKET],
@@ -430,19 +458,7 @@ impl EmbreeCaster<'_> {
                 geom_id: [INVALID_ID; PACKET],
                 inst_id: [INVALID_ID; PACKET],
             };
-            let mut valid = Valid([0; PACKET]);
-            for (lane, q) in queries.iter().enumerate() {
-                if !EmbreeScene::takes(q.origin, q.direction, q.tmin, q.tmax) {
-                    continue;
-                }
-                valid.0[lane] = -1;
-                for axis in 0..3 {
-                    packet.org[axis][lane] = q.origin[axis];
-                    packet.dir[axis][lane] = q.direction[axis];
-                }
-                packet.tnear[lane] = q.tmin;
-                packet.tfar[lane] = q.tmax.next_down();
-            }
+            let mut packet = RayHit16 { ray, hit };
             let mut context = self.context(0);
             // SAFETY: a committed scene, a context that begins with Embree's, a lane mask and a
             // packet, each laid out and aligned (64 bytes) as Embree's; invalid lanes are not
@@ -451,9 +467,9 @@ impl EmbreeCaster<'_> {
                 (scene.api.intersect16)(valid.0.as_ptr(), scene.scene, &mut context.embree, &mut packet)
             };
             for (lane, h) in hits.iter_mut().enumerate() {
-                *h = match scene.slots.get(packet.geom_id[lane] as usize) {
+                *h = match scene.slots.get(packet.hit.geom_id[lane] as usize) {
                     Some(slots) if valid.0[lane] != 0 => {
-                        Hit { t: packet.tfar[lane], triangle: slots[packet.prim_id[lane] as usize] }
+                        Hit { t: packet.ray.tfar[lane], triangle: slots[packet.hit.prim_id[lane] as usize] }
                     }
                     _ => Hit { t: NO_HIT, triangle: 0 },
                 };
@@ -472,29 +488,7 @@ impl EmbreeCaster<'_> {
         }
         let scene = self.scene;
         for (queries, blocked) in queries.chunks(PACKET).zip(blocked.chunks_mut(PACKET)) {
-            let mut packet = Ray16 {
-                org: [[0.0; PACKET]; 3],
-                tnear: [0.0; PACKET],
-                dir: [[0.0; PACKET]; 3],
-                time: [0.0; PACKET],
-                tfar: [0.0; PACKET],
-                mask: [u32::MAX; PACKET],
-                id: [0; PACKET],
-                flags: [0; PACKET],
-            };
-            let mut valid = Valid([0; PACKET]);
-            for (lane, q) in queries.iter().enumerate() {
-                if !EmbreeScene::takes(q.origin, q.direction, q.tmin, q.tmax) {
-                    continue;
-                }
-                valid.0[lane] = -1;
-                for axis in 0..3 {
-                    packet.org[axis][lane] = q.origin[axis];
-                    packet.dir[axis][lane] = q.direction[axis];
-                }
-                packet.tnear[lane] = q.tmin;
-                packet.tfar[lane] = q.tmax.next_down();
-            }
+            let (mut packet, valid) = Ray16::of(queries);
             let mut context = self.context(0);
             // SAFETY: as for closest_hits; Embree sets a blocked lane's tfar to −∞.
             unsafe {

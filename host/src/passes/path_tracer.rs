@@ -43,7 +43,7 @@ pub fn cpu(params: &PathTracerParams, scene: Scene<HostCaster>, image: &mut [f32
     });
 }
 
-/// `params.samples` samples of each of the `count` pixels from `first` on, summed
+/// `params.samples` samples of each of the `count` ≤ [`BATCH`] pixels from `first` on, summed
 /// per pixel as `shared::path_tracer::pixel_round` sums them: sample by sample, each a
 /// wavefront over the pixels' paths — all their segments cast, then all their shadow rays, then
 /// the next bounce of those that go on.
@@ -53,16 +53,18 @@ pub fn round_batch(
     first: u32,
     count: usize,
 ) -> Vec<Vec3> {
+    assert!(count <= BATCH);
     let settings = PathSettings::from(params);
     let mut sums = vec![Vec3::ZERO; count];
-    let mut samples = vec![KeyedSamples::new(0, 0, 0); count];
-    let mut paths = vec![PathState::start(&settings, (0.0, 0.0)); count];
-    let mut alive = vec![0usize; count];
-    let mut queries = vec![Query::default(); count];
-    let mut hits = vec![Hit::NONE; count];
-    let mut shadows = vec![ShadowRay::none(); count];
-    let mut casting = vec![0usize; count];
-    let mut blocked = vec![false; count];
+    // The batch's working set, on the thread's stack.
+    let mut samples = [KeyedSamples::new(0, 0, 0); BATCH];
+    let mut paths = [PathState::start(&settings, (0.0, 0.0)); BATCH];
+    let mut alive = [0usize; BATCH];
+    let mut queries = [Query::default(); BATCH];
+    let mut hits = [Hit::NONE; BATCH];
+    let mut shadows = [ShadowRay::none(); BATCH];
+    let mut casting = [0usize; BATCH];
+    let mut blocked = [false; BATCH];
     for i in 0..params.samples {
         let sample = params.round * params.samples_per_round + i;
         for k in 0..count {
