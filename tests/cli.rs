@@ -397,6 +397,58 @@ fn the_reference_is_cached_with_its_settings() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `smlt bench --reference` with a reference `smlt reference` wrote: the bench reports the
+/// reference's own noise from its sidecar, and refuses one of another depth, view or scene, or
+/// a damaged sidecar, with one line naming it (it would measure every error against the wrong
+/// image).
+#[test]
+fn the_bench_reads_and_checks_a_references_sidecar() {
+    let dir = temp_dir("bench_reference");
+    let reference = dir.join("ref.exr");
+    let size = ["--width", "8", "--height", "8"];
+    let (ok, _, stderr) = smlt(
+        &[
+            &["reference", "atrium", "--spp", "16", "--max-depth", "3", "--device", "cpu"][..],
+            &size,
+            &["--out", reference.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(ok, "{stderr}");
+    let bench = |scene: &str, depth: &str| {
+        let out = dir.join(format!("bench_{scene}_{depth}"));
+        let args = [
+            &["bench", "--scenes", scene, "--methods", "pt", "--seconds", "0.2", "--max-depth", depth][..],
+            &size,
+            &["--device", "cpu", "--reference", reference.to_str().unwrap(), "--out", out.to_str().unwrap()],
+        ]
+        .concat();
+        let (ok, _, stderr) = smlt(&args);
+        (ok, stderr, out)
+    };
+    let (ok, stderr, out) = bench("atrium", "3");
+    assert!(ok, "{stderr}");
+    let noise = smlt::reference::read_sidecar(&reference).unwrap().unwrap().noise_rmse.unwrap();
+    let tables = std::fs::read_to_string(out.join("tables.md")).unwrap();
+    assert!(
+        tables.contains(&format!("| atrium v1 | {noise:.4} |")),
+        "the reference's noise, {noise}: {tables}"
+    );
+    for (scene, depth, said) in [
+        ("atrium", "4", "is a reference of max depth 3, the bench renders 4"),
+        ("atrium:2", "3", "the bench renders view 2"),
+        ("cornell", "3", "is a reference of another scene"),
+    ] {
+        let (ok, stderr, _) = bench(scene, depth);
+        assert!(!ok && stderr.contains(said), "{scene} depth {depth}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    }
+    std::fs::write(smlt::reference::sidecar(&reference), "{ not json").unwrap();
+    let (ok, stderr, _) = bench("atrium", "3");
+    assert!(!ok && stderr.contains("ref.exr.json"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `smlt bench` runs end to end on a tiny configuration and writes a well-formed CSV (every
 /// row parses, one per method and measurement time), the tables and the heat maps.
 #[test]

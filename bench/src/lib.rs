@@ -29,7 +29,7 @@ use metrics::{errors, heat_map};
 use profile::{path_tracer_profile, profile, Profile, ProfiledBackend};
 use results::{final_row, Row, CSV_HEADER};
 use smlt::gpu::Gpu;
-use smlt::reference::{cached_or_render, ReferenceSettings};
+use smlt::reference::{cached_or_render, read_sidecar, sidecar, ReferenceSettings};
 use smlt::render::{self, Backend, Budget, Method, MethodChoice, Renderer, Settings};
 use smlt::scene::SceneData;
 
@@ -109,7 +109,7 @@ pub fn run(b: &BenchSettings, gpu: Option<&Gpu>, mut log: impl FnMut(&str)) -> a
             }
         }
         let (reference, noise) = match &b.reference {
-            Some(path) => (given_reference(b, path)?, None),
+            Some(path) => given_reference(b, path, (&scene_hash, *view))?,
             None => reference_image(b, (&label, *view), &scene, scene_hash, gpu)?,
         };
         noises.push((label.clone(), *view, noise));
@@ -155,8 +155,15 @@ fn reference_image(
     Ok((reference, noise))
 }
 
-/// An external reference image (`--reference`), which must have the bench's size.
-fn given_reference(b: &BenchSettings, path: &Path) -> anyhow::Result<Vec<f32>> {
+/// An external reference image (`--reference`), which must have the bench's size, and its own
+/// noise where `smlt reference` wrote it: its sidecar (`<path>.json`) then says what it is a
+/// reference of, and one of another scene, view or depth is refused (it would measure every
+/// method's error against the wrong image).
+fn given_reference(
+    b: &BenchSettings,
+    path: &Path,
+    (scene_hash, view): (&str, u32),
+) -> anyhow::Result<(Vec<f32>, Option<f64>)> {
     if b.scenes.len() != 1 {
         anyhow::bail!(
             "--reference {} serves one scene view, but {} are benched",
@@ -173,7 +180,24 @@ fn given_reference(b: &BenchSettings, path: &Path) -> anyhow::Result<Vec<f32>> {
             b.render.height
         );
     }
-    Ok(rgb)
+    let Some(written) = read_sidecar(path)? else {
+        return Ok((rgb, None));
+    };
+    let json = sidecar(path);
+    let r = &written.settings;
+    let of = |what: String| {
+        anyhow::anyhow!("--reference {} is a reference of {what} ({})", path.display(), json.display())
+    };
+    if r.scene_hash != scene_hash {
+        return Err(of(format!("another scene (hash {}; the bench's {scene_hash})", r.scene_hash)));
+    }
+    if !r.scene.ends_with(&format!(" view {view}")) {
+        return Err(of(format!("{}, the bench renders view {view}", r.scene)));
+    }
+    if r.max_depth != b.render.max_depth {
+        return Err(of(format!("max depth {}, the bench renders {}", r.max_depth, b.render.max_depth)));
+    }
+    Ok((rgb, written.noise_rmse))
 }
 
 /// One repeat of the equal-time runs on one scene view.

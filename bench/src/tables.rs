@@ -169,7 +169,8 @@ mod tests {
     }
 
     /// The references' table says where the reference came from: rendered at its spp, or an
-    /// external file the bench did not render (whose own noise it does not know).
+    /// external file the bench did not render (whose own noise it knows only from an `smlt
+    /// reference` sidecar: `tests/cli.rs`).
     #[test]
     fn the_reference_table_names_an_external_reference() {
         let mut b = BenchSettings {

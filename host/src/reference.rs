@@ -54,6 +54,18 @@ pub struct Sidecar {
     pub noise_rmse: Option<f64>,
 }
 
+/// The sidecar of the reference at `out`: None where it has none, an error naming it where it
+/// is not one that `smlt reference` wrote.
+pub fn read_sidecar(out: &Path) -> anyhow::Result<Option<Sidecar>> {
+    let json = sidecar(out);
+    if !json.exists() {
+        return Ok(None);
+    }
+    let text = std::fs::read_to_string(&json).map_err(|e| anyhow::anyhow!("{}: {e}", json.display()))?;
+    let found = serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", json.display()))?;
+    Ok(Some(found))
+}
+
 /// The sidecar of `out` when `out` already holds a reference with exactly these settings.
 pub fn cached(out: &Path, settings: &ReferenceSettings) -> Option<Sidecar> {
     let text = std::fs::read_to_string(sidecar(out)).ok()?;

@@ -61,7 +61,9 @@ pub struct Args {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub repeats: u32,
     /// Use this EXR as the reference instead of rendering one (one scene view only; it must
-    /// have the bench's resolution).
+    /// have the bench's resolution). Where `smlt reference` wrote it, its sidecar
+    /// (`FILE.exr.json`) gives the tables its noise, and one of another scene, view or max depth
+    /// is refused.
     #[arg(long)]
     pub reference: Option<PathBuf>,
     /// Output folder.
