@@ -139,17 +139,43 @@ pub fn reference_table(b: &BenchSettings, rows: &[Row], noises: &[(String, u32, 
             .map(|i| i.mean)
             .fold(f64::INFINITY, f64::min);
         let _ = match noise {
-            Some(n) => writeln!(out, "| {scene} v{view} | {n:.4} | {best:.4} | {:.2} |", n / best),
-            None => writeln!(out, "| {scene} v{view} | — | {best:.4} | — |"),
+            Some(n) => writeln!(
+                out,
+                "| {scene} v{view} | {} | {} | {:.2} |",
+                significant(*n),
+                significant(best),
+                n / best
+            ),
+            None => writeln!(out, "| {scene} v{view} | — | {} | — |", significant(best)),
         };
     }
     out.push('\n');
     out
 }
 
+/// `x` with three significant digits in fixed notation (0.000227, 0.0222, 1.50): a reference's
+/// noise and an error span orders of magnitude that four decimals would cut to 0.0002.
+pub fn significant(x: f64) -> String {
+    if !(x.is_finite() && x > 0.0) {
+        return format!("{x}");
+    }
+    let decimals = (2 - x.log10().floor() as i32).max(0) as usize;
+    format!("{x:.decimals$}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Three significant digits at every scale, none cut by a fixed number of decimals.
+    #[test]
+    fn noise_keeps_three_significant_digits() {
+        assert_eq!(significant(2.2706e-4), "0.000227");
+        assert_eq!(significant(0.022215), "0.0222");
+        assert_eq!(significant(1.5), "1.50");
+        assert_eq!(significant(123.4), "123");
+        assert_eq!(significant(0.0), "0");
+    }
 
     /// Speedups are over the naive chains of the same estimator; the path tracer and peers
     /// trace paths, not candidates of chains, and get none.
