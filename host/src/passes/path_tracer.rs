@@ -34,28 +34,19 @@ pub fn gpu(gpu: &Gpu, params: &wgpu::Buffer, b: &GpuBuffers) -> Result<Pass, Gpu
 /// pixels in batches of [`BATCH`] split among the threads.
 pub fn cpu(params: &PathTracerParams, scene: Scene<HostCaster>, image: &mut [f32]) {
     image.par_chunks_mut(3 * BATCH).enumerate().for_each(|(b, px)| {
-        let sums = round_batch(params, scene, (b * BATCH) as u32, px.len() / 3);
-        for (px, sum) in px.chunks_mut(3).zip(sums) {
-            px[0] += sum.x;
-            px[1] += sum.y;
-            px[2] += sum.z;
-        }
+        round_batch(params, scene, (b * BATCH) as u32, px);
     });
 }
 
-/// `params.samples` samples of each of the `count` ≤ [`BATCH`] pixels from `first` on, summed
-/// per pixel as `shared::path_tracer::pixel_round` sums them: sample by sample, each a
-/// wavefront over the pixels' paths — all their segments cast, then all their shadow rays, then
-/// the next bounce of those that go on.
-pub fn round_batch(
-    params: &PathTracerParams,
-    scene: Scene<HostCaster>,
-    first: u32,
-    count: usize,
-) -> Vec<Vec3> {
+/// Adds `params.samples` samples to each of the ≤ [`BATCH`] pixels of `image` (rgb), the
+/// pixels from `first` on, summed per pixel as `shared::path_tracer::pixel_round` sums them:
+/// sample by sample, each a wavefront over the pixels' paths — all their segments cast, then
+/// all their shadow rays, then the next bounce of those that go on.
+pub fn round_batch(params: &PathTracerParams, scene: Scene<HostCaster>, first: u32, image: &mut [f32]) {
+    let count = image.len() / 3;
     assert!(count <= BATCH);
     let settings = PathSettings::from(params);
-    let mut sums = vec![Vec3::ZERO; count];
+    let mut sums = [Vec3::ZERO; BATCH];
     // The batch's working set, on the thread's stack.
     let mut samples = [KeyedSamples::new(0, 0, 0); BATCH];
     let mut paths = [PathState::start(&settings, (0.0, 0.0)); BATCH];
@@ -121,5 +112,9 @@ pub fn round_batch(
             }
         }
     }
-    sums
+    for (px, sum) in image.as_chunks_mut::<3>().0.iter_mut().zip(sums) {
+        px[0] += sum.x;
+        px[1] += sum.y;
+        px[2] += sum.z;
+    }
 }
