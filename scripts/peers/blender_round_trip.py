@@ -55,8 +55,8 @@ but its sun the default angle of 0.526°; the Cycles render sets every radius an
 after import, so that both renderers light the scene with true punctual lights, and says what
 it changed (`cycles.txt`). The spot's cone is 40° with Blender's blend 0.01 (exported as
 19.8°–20° half-angles): Blender's smoothstep blend and glTF's ramp differ only in that 0.2°.
-Cycles: box pixel filter of 1 px, no denoising, no clamping, Filter Glossy 0, black world, 10
-bounces; the EXR is linear (no view transform). Like every path tracer, Cycles cannot render a
+Cycles: box pixel filter of 1 px, no denoising, no clamping, Filter Glossy 0, black world, 9
+bounces (Cycles' count: its 0 is direct light only, smlt's `--max-depth 1`; so smlt's 10); the EXR is linear (no view transform). Like every path tracer, Cycles cannot render a
 delta lamp's light through or off smooth glass onto a diffuse surface (L S+ D E: its shadow rays
 stop at the glass and no BSDF sample hits a point, spot or sun lamp), nor can smlt's `pt`; the
 difference between them and smlt's `naive` is that light.
@@ -383,8 +383,9 @@ def cycles(out, path, samples, width, height):
     c.samples = samples
     c.use_adaptive_sampling = False
     c.use_denoising = False
-    c.max_bounces = c.diffuse_bounces = 10
-    c.glossy_bounces = c.transmission_bounces = 10
+    # smlt's --max-depth 10: Cycles' max_bounces counts one less (its 0 is direct light only)
+    c.max_bounces = c.diffuse_bounces = 9
+    c.glossy_bounces = c.transmission_bounces = 9
     c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
     c.blur_glossy = 0.0  # "Filter Glossy" (default 1) blurs sharp glass seen after a diffuse bounce: a bias
     c.light_sampling_threshold = 0.0
@@ -402,7 +403,8 @@ def cycles(out, path, samples, width, height):
     bpy.ops.render.render(write_still=True)
     took = time.time() - start
     with open(os.path.join(out, "cycles.txt"), "w") as f:
-        f.write(f"Cycles {bpy.app.version_string}, {samples} spp, {width}x{height}, box filter 1 px, 10 bounces,"
+        f.write(f"Cycles {bpy.app.version_string}, {samples} spp, {width}x{height}, box filter 1 px, 9 bounces"
+                f" (smlt's max depth 10),"
                 f" filter glossy 0; rendered in {took:.1f} s\n")
         f.write("\n".join(notes) + "\n")
     print("\n".join(notes))

@@ -27,7 +27,10 @@ What is set after the import, so that Cycles renders what smlt renders:
 - Lambert surfaces (transmission 0, metallicFactor 0 and KHR_materials_specular specularFactor
   0, as smlt's generated scenes write them): the importer's Principled BSDF with Specular IOR
   Level 0 and roughness 1, Lambertian in Cycles as in smlt; any other opaque material keeps the
-  importer's Principled BSDF, which is Cycles' model, not glTF's BRDF (said in the notes);
+  importer's Principled BSDF with single-scattering GGX (glTF's; the importer makes
+  multiscatter), which is Cycles' model, not glTF's BRDF (said in the notes); a material with
+  smlt's Phong lobe (`extras.smlt_phong_exponent`, the generated banners) is refused: the
+  importer reads it as Lambert and Cycles has no Phong closure;
 - emission one-sided, as smlt's emissive triangles (Cycles' emission is two-sided): the
   strength times (1 - Backfacing);
 - solid glass (KHR_materials_volume thicknessFactor > 0): the importer's Principled BSDF with
@@ -52,10 +55,11 @@ What is set after the import, so that Cycles renders what smlt renders:
   Mapping node turns the lookup direction by 90 - DEG deg about Blender's Z, which is glTF's
   +Y); a constant colour -> the Background colour;
 - box pixel filter of 1 px (smlt's pixels are box averages), no denoising, no clamping, no
-  adaptive sampling, Filter Glossy 0, light threshold 0, caustics on, max bounces = smlt's
-  --max-depth k (bounces: smlt's k is pbrt's maxdepth; Cycles' max_bounces counts the same),
-  every kind's bounces k; transparent bounces k too (smlt counts a pass through a thin wall as
-  a bounce, Cycles does not count transparent ones towards max_bounces);
+  adaptive sampling, Filter Glossy 0, light threshold 0, caustics on, max bounces k - 1 for
+  smlt's --max-depth k (pbrt's maxdepth: 1 is direct light only, which is Cycles' max_bounces
+  0; with max_bounces k Cycles rendered `slit` 1.56 % brighter than smlt's reference at 2048 spp,
+  with k - 1 -0.09 %), every kind's bounces k - 1; transparent bounces k (smlt counts a pass
+  through a thin wall as a bounce, Cycles does not count transparent ones towards max_bounces);
 - the camera: the importer's, the view-th camera in depth-first node order (smlt's), its
   vertical field of view kept at any aspect ratio (sensor fit vertical), rendered at
   --width x --height; the EXR is linear (view transform Standard).
@@ -126,6 +130,11 @@ def fix_materials(bpy, doc, notes):
         out = next((n for n in nt.nodes if n.type == "OUTPUT_MATERIAL"), None)
         if principled is None or out is None:
             raise SystemExit(f"material {mat.name}: the importer made no Principled BSDF")
+        if "smlt_phong_exponent" in spec.get("extras", {}):
+            # smlt's generated scenes' Phong lobe (the banners): Blender's importer reads it as
+            # Lambert and Cycles has no Phong closure, so the render would be another scene.
+            raise SystemExit(f"material {mat.name!r}: smlt's Phong lobe (extras.smlt_phong_exponent), which"
+                             " Cycles cannot render")
         t = float(ext.get("KHR_materials_transmission", {}).get("transmissionFactor", 0.0))
         ior = float(ext.get("KHR_materials_ior", {}).get("ior", 1.5))
         volume = ext.get("KHR_materials_volume")
@@ -147,8 +156,9 @@ def fix_materials(bpy, doc, notes):
         lambert = (float(ext.get("KHR_materials_specular", {}).get("specularFactor", 1.0)) == 0.0
                    and float(pbr.get("metallicFactor", 1.0)) == 0.0)
         if t == 0 and not lambert:
+            principled.distribution = "GGX"
             notes.append(f"{mat.name}: not Lambertian in glTF: the importer's Principled BSDF kept"
-                         " (Cycles' model, not glTF's BRDF)")
+                         " with single-scattering GGX (Cycles' model, not glTF's BRDF)")
             continue
         if t == 0:
             principled.inputs["Specular IOR Level"].default_value = 0.0
@@ -218,14 +228,36 @@ def environment(bpy, scene, source, strength, rotation):
     scene.world = world
 
 
+def named_cameras(doc, path, folder):
+    """The glTF to import: `path` itself, or where a camera node has no name (smlt's generated
+    scenes write none; Blender's importer then names the object after the camera, "Camera",
+    "Camera.001", which no longer says which node it was) a copy in `folder` with each such node
+    named "smlt camera node I" (I its node index) and its relative URIs made absolute. `doc` gets the same names."""
+    unnamed = [i for i, node in enumerate(doc["nodes"]) if "camera" in node and not node.get("name")]
+    if not unnamed:
+        return path
+    for i in unnamed:
+        doc["nodes"][i]["name"] = f"smlt camera node {i}"
+    base = os.path.dirname(os.path.abspath(path))
+    for item in doc.get("buffers", []) + doc.get("images", []):
+        uri = item.get("uri")
+        if uri and not uri.startswith("data:"):
+            item["uri"] = os.path.join(base, uri)
+    copy = os.path.join(folder, "named_cameras.gltf")
+    with open(copy, "w") as f:
+        json.dump(doc, f)
+    return copy
+
+
 def setup(a):
     import bpy
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    bpy.ops.import_scene.gltf(filepath=os.path.abspath(a.scene))
-    scene = bpy.context.scene
     with open(a.scene) as f:
         doc = json.load(f)
+    with tempfile.TemporaryDirectory() as folder:
+        bpy.ops.import_scene.gltf(filepath=named_cameras(doc, a.scene, folder))
+    scene = bpy.context.scene
     notes = []
     for obj in scene.objects:
         if obj.type == "LIGHT":
@@ -256,8 +288,11 @@ def setup(a):
     c.device = "CPU"
     c.use_adaptive_sampling = False
     c.use_denoising = False
+    # Cycles' max_bounces 0 is direct light only, pbrt's (and smlt's) max depth 1: one less.
     k = a.max_depth
-    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = k
+    if k < 1:
+        raise SystemExit(f"--max-depth {k}: Cycles renders at least direct light (max depth 1)")
+    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = k - 1
     c.transparent_max_bounces = k
     c.volume_bounces = 0
     c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
