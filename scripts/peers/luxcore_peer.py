@@ -22,7 +22,14 @@ filter NONE and the NOP image pipeline give linear radiance, rows bottom-up, and
 is one row off (the window is moved by one row, `--row-shift -1`); the per-kind path depths
 (`path.pathdepth.diffuse`, default 5) are raised to the total, or deep diffuse light is lost
 (Sibenik rendered 30 % dark); LuxCore 2.11's Russian roulette biases it bright, so it is
-switched off (path.russianroulette.depth 10000)."""
+switched off (path.russianroulette.depth 10000).
+
+What it does not match: `BIDIRCPU` caps its eye subpaths (path.maxdepth) and light subpaths
+(light.maxdepth) each, not their sum, and connects every eye vertex with every light vertex, so
+it renders paths of up to 2 (k + 1) segments for smlt's --max-depth k; converged (40 s) it was
++4.5 % (`slit`) and +1.1 % (`sunblind`) against smlt's reference, where `PATHCPU` was -0.3 %. A
+glTF BRDF that is not Lambert (Sibenik's and Sponza's) becomes LuxCore's `matte` (Sibenik +3.8 %
+with `PATHCPU`; said on stderr), and smlt's Phong lobe of exponent 1e4 or more its `mirror`."""
 
 import math
 import os
@@ -60,6 +67,8 @@ def props(scene, view, width, height, max_depth, engine, sampler, folder, thread
         elif mat.phong > 0:
             raise SystemExit(f"material {mat.name}: Phong exponent {mat.phong} has no LuxCore counterpart here")
         else:
+            if not mat.lambertian:
+                print(f"material {mat.name}: glTF's BRDF rendered as LuxCore's matte (Lambert)", file=sys.stderr)
             p.append(f"scene.materials.m{m}.type = matte")
             p.append(f"scene.materials.m{m}.kd = {v(mat.albedo)}")
         if max(mat.emission) > 0:
