@@ -4,9 +4,18 @@
 //! the sRGB transfer; the EXR stays linear radiance. Each file is
 //! written to a temporary name in the same directory and renamed into place, so an interrupted
 //! render never leaves a broken image; [`check_writable`] refuses an unwritable path before
-//! any rendering starts.
+//! any rendering starts. The same image is the same file, byte for byte ([`EXR_ENCODING`]).
 
 use std::path::{Path, PathBuf};
+
+/// How smlt's EXR files (images and `--shard` parts) are laid out: the exr crate's default
+/// (RLE in 64 × 64 tiles), with the tiles in increasing order. The default's unspecified order
+/// writes them as its threads finish, so a render repeated with the same seed and budget gave
+/// the same pixels in files that differed.
+pub const EXR_ENCODING: exr::prelude::Encoding = exr::prelude::Encoding {
+    line_order: exr::prelude::LineOrder::Increasing,
+    ..exr::prelude::Encoding::FAST_LOSSLESS
+};
 
 /// Why an image could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -143,11 +152,15 @@ pub fn write_images_exposed(
 ) -> Result<f32, OutputError> {
     let tmp = temporary(exr);
     let w = width as usize;
-    exr::prelude::write_rgb_file(&tmp, w, height as usize, |x, y| {
-        let i = (x + y * w) * 3;
-        (rgb[i], rgb[i + 1], rgb[i + 2])
-    })
-    .map_err(|e| write_error(exr, e))?;
+    {
+        use exr::prelude::*;
+        let channels = SpecificChannels::rgb(|Vec2(x, y)| {
+            let i = (x + y * w) * 3;
+            (rgb[i], rgb[i + 1], rgb[i + 2])
+        });
+        let layer = Layer::new((w, height as usize), LayerAttributes::default(), EXR_ENCODING, channels);
+        Image::from_layer(layer).write().to_file(&tmp).map_err(|e| write_error(exr, e))?;
+    }
     std::fs::rename(&tmp, exr).map_err(|e| write_error(exr, e))?;
     let png = png_path(exr);
     let tmp = temporary(&png);

@@ -330,7 +330,7 @@ pub fn write_part(
     let layer = Layer::new(
         (r.width as usize, r.height as usize),
         attributes,
-        Encoding::FAST_LOSSLESS,
+        crate::output::EXR_ENCODING,
         AnyChannels::sort(channels.into()),
     );
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
