@@ -253,8 +253,11 @@ def setup(a):
     import bpy
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    with open(a.scene) as f:
-        doc = json.load(f)
+    try:
+        with open(a.scene) as f:
+            doc = json.load(f)
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise SystemExit(f"{a.scene}: not a readable .gltf (JSON) file: {e}")
     with tempfile.TemporaryDirectory() as folder:
         bpy.ops.import_scene.gltf(filepath=named_cameras(doc, a.scene, folder))
     scene = bpy.context.scene
