@@ -1029,8 +1029,8 @@ fn auto_sees_the_light_the_path_tracer_misses() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// A render repeated with the same seed and budget writes the same files, byte for byte, as pbrt
-/// and Mitsuba do: the EXR's tiles in a fixed order (`smlt::output::EXR_ENCODING`), where the exr
+/// A render on the CPU backend repeated with the same seed and budget writes the same files, byte
+/// for byte: the EXR's tiles in a fixed order (`smlt::output::EXR_ENCODING`), where the exr
 /// crate's default order (its threads' finishing order) made equal images unequal files. A
 /// 256 × 192 image is 12 tiles, so an unordered writer would almost surely show.
 #[test]
