@@ -1065,3 +1065,33 @@ fn the_same_seed_and_budget_write_the_same_file() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Above 512×512 pixels the pixel importance is estimated per block of pixels, so that it takes
+/// at most 2^20 samples before the clock (`smlt::render::importance::block_side`); the summary
+/// names the blocks, and the render is whole.
+#[test]
+fn a_large_image_estimates_its_pixel_importance_in_blocks() {
+    let dir = temp_dir("importance-blocks");
+    let out = dir.join("large.exr");
+    let (ok, stdout, stderr) = smlt(&[
+        "render",
+        "--device",
+        "cpu",
+        "--method",
+        "naive",
+        "--mutations-per-pixel",
+        "1",
+        "--width",
+        "600",
+        "--height",
+        "520",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("pixel importance     4 samples a 2×2 block of pixels in"), "{stdout}");
+    let (w, h, rgb) = smlt::output::read_exr(&out).unwrap();
+    assert_eq!((w, h), (600, 520));
+    assert!(rgb.iter().all(|v| v.is_finite()) && rgb.iter().any(|&v| v > 0.0));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

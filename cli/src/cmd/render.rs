@@ -341,10 +341,11 @@ pub fn print_summary(r: &render::Rendered, settings: &Settings) {
         println!("kernels compiled     {seconds:.2} s (before the clock)");
     }
     if let Some(seconds) = s.importance_seconds {
-        println!(
-            "pixel importance     {} spp in {seconds:.2} s (before the clock)",
-            smlt::render::importance::IMPORTANCE_SPP
-        );
+        use smlt::render::importance::{block_side, IMPORTANCE_SPP};
+        let side = block_side(r.width, r.height);
+        let per =
+            if side == 1 { "spp".to_string() } else { format!("samples a {side}×{side} block of pixels") };
+        println!("pixel importance     {IMPORTANCE_SPP} {per} in {seconds:.2} s (before the clock)");
     }
     if s.bootstrap_seconds > 0.0 {
         println!("bootstrap            {} samples in {:.2} s", s.bootstrap_samples, s.bootstrap_seconds);

@@ -5,10 +5,15 @@
 //! alone, so every shard of a render, on any machine, uses the very same Ĩ (auto's pilot, which
 //! no shard shares, casts through the fastest host caster). Ĩ only reshapes the chains' target:
 //! any positive Ĩ gives the same image.
+//!
+//! Its cost is bounded ([`IMPORTANCE_SAMPLES`]): a large image is estimated per square block of
+//! pixels ([`block_side`]), as a smaller image would be. At 1920×1080 four samples of every pixel
+//! took 39 s on 2 CPUs before a render's clock started (Sibenik, `naive`), longer than many
+//! renders; one estimate per 3×3 block takes a ninth of that.
 
 use rayon::prelude::*;
 use shared::color::luminance;
-use shared::path_tracer::{pixel_round, PathTracerParams};
+use shared::path_tracer::{pixel_round, pixel_sample, PathTracerParams};
 use shared::ray_caster::RayCaster;
 use shared::scene::Scene;
 
@@ -17,6 +22,31 @@ use crate::scene::SceneData;
 
 /// Samples per pixel of the estimate.
 pub const IMPORTANCE_SPP: u32 = 4;
+/// The most path-traced samples the estimate takes: [`IMPORTANCE_SPP`] for every pixel of an
+/// image of up to 2^18 pixels (512×512; every render the bench measures), then as many for
+/// every block of [`block_side`]² pixels.
+pub const IMPORTANCE_SAMPLES: u64 = 1 << 20;
+
+/// The side of the square blocks of pixels that share one estimate in a `width`×`height` image:
+/// the least whose blocks take at most [`IMPORTANCE_SAMPLES`] samples (1: every pixel its own).
+pub fn block_side(width: u32, height: u32) -> u32 {
+    let mut side = 1;
+    while width.div_ceil(side) as u64 * height.div_ceil(side) as u64 * IMPORTANCE_SPP as u64
+        > IMPORTANCE_SAMPLES
+    {
+        side += 1;
+    }
+    side
+}
+
+/// The pixel that sample `k` of a block takes: of the block's `w`×`h` pixels (inside the image)
+/// in row-major order, the `k`-th of [`IMPORTANCE_SPP`] at an even stride, so that a 2×2 block's
+/// four samples take its four pixels; as (x, y) within the block.
+pub fn block_sample_pixel(w: u32, h: u32, k: u32) -> (u32, u32) {
+    let i = (k as u64 * (w * h) as u64 / IMPORTANCE_SPP as u64) as u32;
+    (i % w, i / w)
+}
+
 /// The estimate's round: its sample numbers start at 2^31, which no render of the path tracer
 /// (numbered from 0) reaches, so it is independent of `--method pt` and of references.
 const IMPORTANCE_ROUND: u32 = (1 << 31) / IMPORTANCE_SPP;
@@ -54,12 +84,58 @@ pub fn estimate_pixel_importance(
         ..path_params(scene, s)
     };
     let pixels = s.width * s.height;
+    let mix = importance_mix(m.estimator);
+    let side = block_side(s.width, s.height);
+    if side > 1 {
+        let (w, h) = (s.width.div_ceil(side), s.height.div_ceil(side));
+        let estimate = if preparation.fast() {
+            block_luminances(&params, scene.shared(), s.width, s.height, side)
+        } else {
+            block_luminances(&params, scene.device_view(), s.width, s.height, side)
+        };
+        let blocks = smooth_and_mix(&estimate, w, h, mix);
+        return (0..pixels)
+            .map(|p| blocks[((p / s.width / side) * w + p % s.width / side) as usize])
+            .collect();
+    }
     let estimate: Vec<f32> = match preparation {
         Preparation::FastFrom(luminance) if luminance.len() == pixels as usize => luminance.to_vec(),
         p if p.fast() => luminances(&params, scene.shared(), pixels),
         _ => luminances(&params, scene.device_view(), pixels),
     };
-    smooth_and_mix(&estimate, s.width, s.height, importance_mix(m.estimator))
+    smooth_and_mix(&estimate, s.width, s.height, mix)
+}
+
+/// The mean luminance of [`IMPORTANCE_SPP`] path-traced samples of each `side`×`side` block of
+/// a `width`×`height` image (row-major, the blocks at its right and bottom edges cut by them),
+/// each sample through one of the block's pixels ([`block_sample_pixel`]), numbered as the
+/// per-pixel estimate numbers its samples; on the current rayon pool.
+fn block_luminances<R: RayCaster + Sync>(
+    params: &PathTracerParams,
+    view: Scene<R>,
+    width: u32,
+    height: u32,
+    side: u32,
+) -> Vec<f32> {
+    let blocks_wide = width.div_ceil(side);
+    (0..blocks_wide * height.div_ceil(side))
+        .into_par_iter()
+        .map(|b| {
+            let (x0, y0) = (b % blocks_wide * side, b / blocks_wide * side);
+            let (w, h) = (side.min(width - x0), side.min(height - y0));
+            let mut sum = 0.0;
+            for k in 0..IMPORTANCE_SPP {
+                let (x, y) = block_sample_pixel(w, h, k);
+                let pixel = (y0 + y) * width + x0 + x;
+                let l = pixel_sample(params, view, pixel, params.round * params.samples_per_round + k);
+                // A NaN or infinite sample is dropped, as `pixel_round` drops it.
+                if l.is_finite() {
+                    sum += luminance(l);
+                }
+            }
+            sum / IMPORTANCE_SPP as f32
+        })
+        .collect()
 }
 
 /// The mean luminance of `params.samples` path-traced samples of each of `pixels` pixels, on
@@ -103,6 +179,42 @@ pub fn smooth_and_mix(l: &[f32], width: u32, height: u32, mix: f32) -> Vec<f32> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every pixel its own estimate up to 512×512 (the bench's 128×72 and the default 256×256
+    /// among them); 1080p in 3×3 blocks, 4K in 6×6, each within the budget.
+    #[test]
+    fn blocks_keep_the_estimate_within_its_budget() {
+        for (w, h) in [(128, 72), (256, 256), (512, 512), (1, 1)] {
+            assert_eq!(block_side(w, h), 1, "{w}×{h}");
+        }
+        assert_eq!(block_side(513, 512), 2);
+        assert_eq!(block_side(1920, 1080), 3);
+        assert_eq!(block_side(3840, 2160), 6);
+        for (w, h) in [(1920, 1080), (3840, 2160), (16384, 16384), (16384, 1), (700, 701)] {
+            let side = block_side(w, h);
+            let samples =
+                |side: u32| w.div_ceil(side) as u64 * h.div_ceil(side) as u64 * IMPORTANCE_SPP as u64;
+            assert!(samples(side) <= IMPORTANCE_SAMPLES, "{w}×{h}: {}", samples(side));
+            assert!(
+                side == 1 || samples(side - 1) > IMPORTANCE_SAMPLES,
+                "{w}×{h}: side {side} is not the least"
+            );
+        }
+    }
+
+    /// A 2×2 block's four samples take its four pixels; the samples of any block, a cut one at
+    /// the image's edge included, stay inside it.
+    #[test]
+    fn a_blocks_samples_spread_over_its_pixels() {
+        let taken: Vec<_> = (0..IMPORTANCE_SPP).map(|k| block_sample_pixel(2, 2, k)).collect();
+        assert_eq!(taken, [(0, 0), (1, 0), (0, 1), (1, 1)]);
+        for (w, h) in [(3, 3), (1, 1), (1, 3), (6, 2), (2, 1)] {
+            for k in 0..IMPORTANCE_SPP {
+                let (x, y) = block_sample_pixel(w, h, k);
+                assert!(x < w && y < h, "{w}×{h} sample {k}: ({x}, {y})");
+            }
+        }
+    }
 
     /// The 3×3 mean, clipped at the edges, plus a fraction of the mean; a black estimate gives
     /// ones (nothing to shape).
