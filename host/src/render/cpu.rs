@@ -149,6 +149,7 @@ pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, RenderError> {
 impl<'a> CpuBackend<'a> {
     /// Allocates the groups' buffers for `params` and a pool of `threads` threads.
     pub fn new(scene: &'a SceneData, params: &RenderParams, threads: usize) -> Result<Self, RenderError> {
+        super::host_memory::check(params.width, params.height, super::host_memory::available())?;
         // The path tracer's parameters hold no chains (and so no candidates per chain): no groups.
         let per_group = (GROUP_CANDIDATES / params.candidates_per_chain().max(1)).max(1);
         let mut groups = Vec::new();

@@ -9,6 +9,7 @@ pub mod bootstrap;
 pub mod cpu;
 pub mod estimator;
 pub mod gpu;
+pub mod host_memory;
 pub mod importance;
 pub mod method;
 pub mod renderer;
