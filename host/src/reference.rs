@@ -68,8 +68,7 @@ pub fn read_sidecar(out: &Path) -> anyhow::Result<Option<Sidecar>> {
 
 /// The sidecar of `out` when `out` already holds a reference with exactly these settings.
 pub fn cached(out: &Path, settings: &ReferenceSettings) -> Option<Sidecar> {
-    let text = std::fs::read_to_string(sidecar(out)).ok()?;
-    let found: Sidecar = serde_json::from_str(&text).ok()?;
+    let found = read_sidecar(out).ok()??;
     (out.exists() && found.settings == *settings).then_some(found)
 }
 
