@@ -5,12 +5,22 @@
 //! - **Packed contribution (the paper's §5.3):** a candidate's result is one `float4`: the rgb
 //!   contribution times its weight in xyz, and the pixel index stored as the *bits* of w
 //!   (`__int_as_float`), so one 16-byte access carries both. A candidate that lands on no
-//!   pixel stores [`NO_PIXEL`].
+//!   pixel stores [`NO_PIXEL`]. The bits are the index with bit 30 flipped
+//!   ([`PIXEL_BITS_FLIP`]), so that w is never a subnormal float.
 
 use glam::{Vec3, Vec4};
 
 /// Pixel index of a contribution that lands on no pixel.
 pub const NO_PIXEL: u32 = u32::MAX;
+
+/// What the pixel index is XORed with as the bits of a packed contribution's w: a pixel index
+/// below 2^30 (an image is at most 16384² = 2^28 pixels) and [`NO_PIXEL`] become the bits of
+/// normal floats, where the index's own bits are those of a subnormal one. The compiler
+/// computes a contribution's rgb in 4-wide vector instructions that carry w along, and an x86
+/// CPU takes a microcode assist of about a hundred cycles on each such instruction that meets a
+/// subnormal: the plain bits cost the CPU backend's Metropolis methods 4–19 % of their speed
+/// (`results/cpu-path/pixel_bits/`). A GPU is indifferent.
+pub const PIXEL_BITS_FLIP: u32 = 1 << 30;
 
 /// Position of variable `variable` of chain `chain` among `chains` chains: `p + i·N`.
 #[inline]
@@ -59,10 +69,11 @@ pub fn store_group(buffer: &mut [f32], unit: u32, group: u32, units: u32, variab
     }
 }
 
-/// Packs `rgb · weight` and the pixel index (as the bits of the fourth float) into one Vec4.
+/// Packs `rgb · weight` and the pixel index (as the bits of the fourth float, flipped by
+/// [`PIXEL_BITS_FLIP`]) into one Vec4.
 #[inline]
 pub fn pack_contribution(rgb: Vec3, weight: f32, pixel: u32) -> Vec4 {
-    (rgb * weight).extend(f32::from_bits(pixel))
+    (rgb * weight).extend(f32::from_bits(pixel ^ PIXEL_BITS_FLIP))
 }
 
 /// Packs `rgb` divided by the pixel importance Ĩ of `pixel` (`importance`, one value a pixel)
@@ -79,7 +90,7 @@ pub fn pack_over_importance(rgb: Vec3, pixel: u32, importance: &[f32]) -> Vec4 {
 /// The inverse of [`pack_contribution`]: (rgb · weight, pixel index).
 #[inline]
 pub fn unpack_contribution(packed: Vec4) -> (Vec3, u32) {
-    (packed.truncate(), packed.w.to_bits())
+    (packed.truncate(), packed.w.to_bits() ^ PIXEL_BITS_FLIP)
 }
 
 /// The splat record of a state with contribution `v` (F, pixel bits), target `c` and
@@ -141,8 +152,8 @@ mod tests {
         assert_eq!(unpack_contribution(pack_over_importance(rgb, NO_PIXEL, &[0.25; 4])), (rgb, NO_PIXEL));
     }
 
-    /// Every pixel index survives the trip through a float's bits, the ones that are
-    /// denormals (below 2^23) and NaN patterns (NO_PIXEL) included.
+    /// Every pixel index survives the trip through a float's bits, the ones whose own bits are
+    /// subnormals (below 2^23) or NaN patterns included.
     #[test]
     fn packing_round_trips_every_kind_of_index() {
         for pixel in [0u32, 1, 7, (1 << 23) - 1, 1 << 23, 1920 * 1080 - 1, 0x7f80_0001, NO_PIXEL] {
@@ -150,6 +161,18 @@ mod tests {
             let (back, p) = unpack_contribution(pack_contribution(rgb, 0.25, pixel));
             assert_eq!(p, pixel);
             assert_eq!(back, rgb * 0.25);
+        }
+    }
+
+    /// The w of every pixel of the largest image, and of NO_PIXEL, is a normal float: no CPU
+    /// instruction that carries it along meets a subnormal.
+    #[test]
+    fn a_packed_pixel_is_a_normal_float() {
+        let largest = 16384 * 16384;
+        let pixels = (0..1 << 16).chain((largest - (1 << 16))..largest).chain((0..largest).step_by(4099));
+        for pixel in pixels.chain([NO_PIXEL]) {
+            let w = pack_contribution(Vec3::ONE, 1.0, pixel).w;
+            assert!(w.is_normal(), "pixel {pixel}: w = {w:e}");
         }
     }
 }
