@@ -15,7 +15,7 @@ pub const NO_PIXEL: u32 = u32::MAX;
 
 /// What the pixel index is XORed with as the bits of a packed contribution's w: a pixel index
 /// below 2^30 (an image is at most 16384² = 2^28 pixels) and [`NO_PIXEL`] become the bits of
-/// normal floats, where the index's own bits are those of a subnormal one. The compiler
+/// normal floats, where an index below 2^23 is, as it is, the bits of a subnormal. The compiler
 /// computes a contribution's rgb in 4-wide vector instructions that carry w along, and an x86
 /// CPU takes a microcode assist of about a hundred cycles on each such instruction that meets a
 /// subnormal: the plain bits cost the CPU backend's Metropolis methods 4–19 % of their speed
