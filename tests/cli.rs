@@ -398,9 +398,9 @@ fn the_reference_is_cached_with_its_settings() {
 }
 
 /// `smlt bench --reference` with a reference `smlt reference` wrote: the bench reports the
-/// reference's own noise from its sidecar, and refuses one of another depth, view or scene, or
-/// a damaged sidecar, with one line naming it (it would measure every error against the wrong
-/// image).
+/// reference's own noise from its sidecar, and refuses one of another depth, view or scene, a
+/// damaged sidecar or a missing file, with one line naming it (it would measure every error
+/// against the wrong image).
 #[test]
 fn the_bench_reads_and_checks_a_references_sidecar() {
     let dir = temp_dir("bench_reference");
@@ -446,6 +446,18 @@ fn the_bench_reads_and_checks_a_references_sidecar() {
     std::fs::write(smlt::reference::sidecar(&reference), "{ not json").unwrap();
     let (ok, stderr, _) = bench("atrium", "3");
     assert!(!ok && stderr.contains("ref.exr.json"), "{stderr}");
+    // A reference that is not there is one it cannot read (it said "cannot write").
+    let missing = dir.join("missing.exr");
+    let (ok, _, stderr) = smlt(
+        &[
+            &["bench", "--scenes", "atrium", "--methods", "pt", "--seconds", "0.2", "--device", "cpu"][..],
+            &size,
+            &["--reference", missing.to_str().unwrap(), "--out", dir.join("bench_missing").to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(!ok && stderr.contains(&format!("cannot read {}", missing.display())), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

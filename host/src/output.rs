@@ -17,7 +17,7 @@ pub const EXR_ENCODING: exr::prelude::Encoding = exr::prelude::Encoding {
     ..exr::prelude::Encoding::FAST_LOSSLESS
 };
 
-/// Why an image could not be written.
+/// Why an image could not be written (or read back).
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The output path is not an `.exr` file name.
@@ -26,6 +26,14 @@ pub enum OutputError {
     /// The output cannot be created.
     #[error("cannot write {path}: {reason}")]
     Write {
+        #[allow(missing_docs)] // named for what it is
+        path: String,
+        /// The underlying error's message.
+        reason: String,
+    },
+    /// An EXR cannot be read ([`read_exr`]).
+    #[error("cannot read {path}: {reason}")]
+    Read {
         #[allow(missing_docs)] // named for what it is
         path: String,
         /// The underlying error's message.
@@ -185,7 +193,7 @@ pub fn read_exr(path: &Path) -> Result<(u32, u32, Vec<f32>), OutputError> {
             px[i + 2] = b;
         },
     )
-    .map_err(|e| write_error(path, e))?;
+    .map_err(|e| OutputError::Read { path: path.display().to_string(), reason: e.to_string() })?;
     let size = image.layer_data.size;
     Ok((size.width() as u32, size.height() as u32, image.layer_data.channel_data.pixels.1))
 }
