@@ -89,8 +89,8 @@ fn unsupported_content_is_an_error_or_a_warning() {
     assert!(err.contains("nothing emits light"), "{err}");
 
     // A texture (a real 1×1 PNG beside the file) read with texture coordinates the mesh lacks
-    // is refused by name; a normal map and an occlusion map are named in a warning; an image
-    // in an encoding smlt does not read is left out with a warning.
+    // is refused by name; an occlusion map is named in a warning; an image in an encoding smlt
+    // does not read is left out with a warning.
     let dir = std::env::temp_dir().join(format!("smlt-texture-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     image::RgbImage::from_pixel(1, 1, image::Rgb([200, 10, 10])).save(dir.join("red.png")).unwrap();
@@ -103,14 +103,11 @@ fn unsupported_content_is_an_error_or_a_warning() {
     let err = SceneData::load(&dir.join("textured.gltf")).unwrap_err().to_string();
     assert!(err.contains("meshes[0].primitives[0]") && err.contains("TEXCOORD_0"), "{err}");
     doc["materials"][0]["pbrMetallicRoughness"].as_object_mut().unwrap().remove("baseColorTexture");
-    doc["materials"][0]["normalTexture"] = json!({"index": 0});
     doc["materials"][0]["occlusionTexture"] = json!({"index": 0});
     doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({"index": 1});
     std::fs::write(dir.join("textured.gltf"), doc.to_string()).unwrap();
     let scene = SceneData::load(&dir.join("textured.gltf")).unwrap();
-    for said in
-        ["normalTexture is ignored on material", "occlusionTexture is ignored on material", "images[1]"]
-    {
+    for said in ["occlusionTexture is ignored on material", "images[1]"] {
         assert!(scene.warnings.iter().any(|w| w.contains(said)), "{said}: {:?}", scene.warnings);
     }
     // Said once for every material that has one, not once a material.
@@ -126,9 +123,9 @@ fn unsupported_content_is_an_error_or_a_warning() {
     many["materials"] = json!(copies);
     std::fs::write(dir.join("many.gltf"), many.to_string()).unwrap();
     let scene = SceneData::load(&dir.join("many.gltf")).unwrap();
-    let normal: Vec<_> = scene.warnings.iter().filter(|w| w.contains("normalTexture")).collect();
-    assert_eq!(normal.len(), 1, "{:?}", scene.warnings);
-    assert!(normal[0].contains("on 6 materials ('m0', 'm1', 'm2', …)"), "{}", normal[0]);
+    let occlusion: Vec<_> = scene.warnings.iter().filter(|w| w.contains("occlusionTexture")).collect();
+    assert_eq!(occlusion.len(), 1, "{:?}", scene.warnings);
+    assert!(occlusion[0].contains("on 6 materials ('m0', 'm1', 'm2', …)"), "{}", occlusion[0]);
     assert_eq!(scene.material_textures.len(), 1, "the unreadable texture leaves the material untextured");
     // A buffer URI that does not exist, a missing file, a directory.
     doc["buffers"][0]["uri"] = json!("missing.bin");
@@ -694,4 +691,86 @@ fn alpha_modes_read_as_the_spec_defines_them() {
     let lamp = load(&doc).unwrap();
     assert!(lamp.warnings.iter().any(|w| w.contains("on an emitter is not modelled")), "{:?}", lamp.warnings);
     assert_eq!(lamp.material_textures[lamp.materials[1].textures as usize].alpha_mode, ALPHA_OPAQUE);
+}
+
+/// A floor (y = 0, facing +y, TEXCOORD_0 = (x, z)) whose material has a 1 × 1 normal texture
+/// leaning towards +x, with `scale` and a `KHR_texture_transform` offset.
+fn normal_mapped_doc(scale: f32) -> Value {
+    use smlt::scenes::{facing, png, Planar};
+    let mut b = GltfBuilder::new();
+    let floor = b.pbr("floor", [0.5; 3], 0.0, 1.0);
+    b.texture(
+        floor,
+        "normalTexture",
+        png(1, 1, |_, _| [218, 128, 218, 255]),
+        json!({"magFilter": 9728}),
+        Some(json!({"offset": [0.25, 0.5]})),
+        Planar { u: Vec3::X, v: Vec3::Z },
+    );
+    let q = [Vec3::new(-1., 0., -1.), Vec3::new(1., 0., -1.), Vec3::new(1., 0., 1.), Vec3::new(-1., 0., 1.)];
+    b.quad(floor, facing(q, Vec3::Y));
+    b.camera(Vec3::new(0.0, 3.0, 0.1), Vec3::ZERO, Vec3::Y, 0.8);
+    b.point_light(Vec3::new(0.0, 2.0, 0.0), [1.0; 3], 10.0);
+    let mut doc: Value = serde_json::from_str(&b.to_json()).unwrap();
+    doc["materials"][0]["normalTexture"]["scale"] = json!(scale);
+    doc
+}
+
+/// A normal texture loads with its transform (read from the extension on `normalTexture`) and
+/// scale, its triangles get the texture coordinates it reads, and the floor's shading normal
+/// leans as the spec's tangent frame says: x along dp/du (+x here), z the normal (+y), the texel
+/// 2 c − 1 with x and y times the scale. A TANGENT it does not read is said; a scale that is no
+/// number is refused.
+#[test]
+fn a_normal_texture_loads_and_bends_the_shading_normal() {
+    let scene = load(&normal_mapped_doc(0.5)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let t = scene.material_textures[scene.materials[1].textures as usize];
+    assert!(t.normal.is_some() && !t.base_color.is_some());
+    assert_eq!(t.normal_scale, 0.5);
+    assert_eq!(t.normal.transform, shared::texture::texture_transform([0.25, 0.5], 0.0, [1.0, 1.0]));
+    assert!(scene.texcoords.iter().any(|c| c.uv[..6].iter().any(|&u| u != 0.0)), "TEXCOORD_0 read");
+    let shared_scene = scene.shared();
+    let p = Vec3::new(0.3, 0.0, -0.2);
+    let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT, 0);
+    let n = shared::surface::normals_at(&shared_scene, hit.triangle, p);
+    let c = |byte: f32| byte / 255.0 * 2.0 - 1.0;
+    let expected = (Vec3::X * (0.5 * c(218.0)) - Vec3::Z * (0.5 * c(128.0)) + Vec3::Y * c(218.0)).normalize();
+    assert_eq!(n.geometric, Vec3::Y);
+    assert!((n.shading - expected).length() < 1e-5, "{} against {expected}", n.shading);
+
+    // A TANGENT (VEC4 floats, one a vertex) is not read, and said so.
+    use base64::Engine;
+    let mut doc = normal_mapped_doc(1.0);
+    let vertices = doc["accessors"]
+        [doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"].as_u64().unwrap() as usize]["count"]
+        .as_u64()
+        .unwrap() as usize;
+    let bytes: Vec<u8> =
+        (0..vertices).flat_map(|_| [1.0f32, 0.0, 0.0, 1.0]).flat_map(f32::to_le_bytes).collect();
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&bytes)
+    );
+    let buffers = doc["buffers"].as_array().unwrap().len();
+    doc["buffers"].as_array_mut().unwrap().push(json!({"byteLength": bytes.len(), "uri": uri}));
+    let views = doc["bufferViews"].as_array().unwrap().len();
+    doc["bufferViews"].as_array_mut().unwrap().push(json!({"buffer": buffers, "byteLength": bytes.len()}));
+    let accessors = doc["accessors"].as_array().unwrap().len();
+    doc["accessors"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"bufferView": views, "componentType": 5126, "count": vertices, "type": "VEC4"}));
+    doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = json!(accessors);
+    let scene = load(&doc).unwrap();
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("TANGENT is not read (1 normal-mapped")),
+        "{:?}",
+        scene.warnings
+    );
+
+    let mut doc = normal_mapped_doc(1.0);
+    doc["materials"][0]["normalTexture"]["extensions"]["KHR_texture_transform"]["offset"] = json!("left");
+    let err = load(&doc).unwrap_err().to_string();
+    assert!(err.contains("normalTexture.extensions.KHR_texture_transform"), "{err}");
 }

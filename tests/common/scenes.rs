@@ -257,7 +257,7 @@ pub fn brdf_scene(point: bool) -> SceneData {
 }
 
 /// Every texture slot glTF has, each with a different sampler: a checker floor (base colour,
-/// NEAREST), a wall of colour bands (base colour, bilinear, MIRRORED_REPEAT, through a
+/// NEAREST) whose tiles lean four ways (normalTexture, NEAREST), a wall of colour bands (base colour, bilinear, MIRRORED_REPEAT, through a
 /// `KHR_texture_transform`), a ball whose metallic-roughness texture stripes it into rough
 /// dielectric, rough metal and a glossier metal (bilinear), and an area lamp whose
 /// emissiveTexture is a bright frame round a dim centre (NEAREST, CLAMP_TO_EDGE).
@@ -273,6 +273,19 @@ pub fn textured_scene() -> SceneData {
         floor,
         "baseColorTexture",
         checker,
+        json!({"magFilter": 9728}),
+        None,
+        Planar { u: Vec3::X, v: Vec3::Z },
+    );
+    // Its tiles lean four ways (normalTexture, NEAREST, on the same coordinates).
+    let lean = png(4, 4, |x, y| {
+        [[128, 128, 255, 255], [220, 128, 220, 255], [128, 220, 220, 255], [60, 60, 230, 255]]
+            [((x + 2 * y) % 4) as usize]
+    });
+    b.texture(
+        floor,
+        "normalTexture",
+        lean,
         json!({"magFilter": 9728}),
         None,
         Planar { u: Vec3::X, v: Vec3::Z },

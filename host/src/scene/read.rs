@@ -228,18 +228,11 @@ fn ignored_textures(doc: &gltf::Document) -> Vec<String> {
             format!("{texture} is ignored on {on}: {why}")
         })
     };
-    [
-        warning(
-            "normalTexture",
-            named(&|m| m.normal_texture().is_some()),
-            "shading uses the interpolated NORMAL, or the geometric normal",
-        ),
-        warning(
-            "occlusionTexture",
-            named(&|m| m.occlusion_texture().is_some()),
-            "a path tracer computes occlusion; the texture is an approximation of it",
-        ),
-    ]
+    [warning(
+        "occlusionTexture",
+        named(&|m| m.occlusion_texture().is_some()),
+        "a path tracer computes occlusion; the texture is an approximation of it",
+    )]
     .into_iter()
     .flatten()
     .collect()
@@ -258,6 +251,10 @@ fn read_material(
     let pbr = m.pbr_metallic_roughness();
     let base = pbr.base_color_factor();
     let at = m.index().map(|i| format!("materials[{i}]")).unwrap_or_else(|| label.clone());
+    let (normal, normal_scale) = match m.normal_texture() {
+        Some(n) => store.normal_reference(source, &n, &format!("{at}.normalTexture"), warnings)?,
+        None => (TextureRef::NONE, 1.0),
+    };
     let mut slot = |info: Option<gltf::texture::Info>, path: &str, warnings: &mut Vec<String>| match info {
         Some(info) => store.reference(source, &info, &format!("{at}.{path}"), warnings),
         None => Ok(TextureRef::NONE),
@@ -270,13 +267,14 @@ fn read_material(
             warnings,
         )?,
         emissive: slot(m.emissive_texture(), "emissiveTexture", warnings)?,
+        normal,
         metallic: pbr.metallic_factor(),
         roughness: pbr.roughness_factor(),
         transmission: m.transmission().map_or(0.0, |t| t.transmission_factor()),
         alpha_mode: ALPHA_OPAQUE,
         alpha_cutoff: 0.5,
         alpha: base[3],
-        _pad: 0.0,
+        normal_scale,
     };
     let strength = m.emissive_strength().unwrap_or(1.0);
     let e = m.emissive_factor();
@@ -285,6 +283,7 @@ fn read_material(
     let textured = textures.base_color.is_some()
         || textures.metallic_roughness.is_some()
         || textures.emissive.is_some()
+        || textures.normal.is_some()
         || textures.alpha_mode != ALPHA_OPAQUE;
     let mut phong = 0.0f32;
     if let Some(raw) = m.extras() {
@@ -511,6 +510,8 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
     // glTF's node hierarchy is a set of disjoint trees: a node reached twice has two parents or
     // is its own ancestor, and a walk through a cycle would never end.
     let mut reached = vec![false; doc.nodes().len()];
+    // Normal-mapped primitives whose TANGENT is not read (one warning for all).
+    let mut tangents_ignored = 0usize;
     let mut stack: Vec<(gltf::Node, Mat4, Option<usize>)> =
         scene.nodes().map(|n| (n, Mat4::IDENTITY, None)).collect();
     stack.reverse();
@@ -632,6 +633,13 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                     (None, None) => (0..positions.len() as u32).collect(),
                 };
                 let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
+                let textures = soup.materials[material as usize].textures;
+                if textures != 0
+                    && soup.material_textures[textures as usize].normal.is_some()
+                    && prim.get(&gltf::Semantic::Tangents).is_some()
+                {
+                    tangents_ignored += 1;
+                }
                 let texcoords = read_texcoords(&reader, &prim, &soup, material, &at, positions.len(), name)?;
                 let normals = read_normals(&reader, &prim, world, &at, positions.len(), name)?;
                 let (triples, rest) = indices.as_chunks::<3>();
@@ -688,6 +696,11 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
         }
         let children: Vec<_> = node.children().map(|c| (c, world, Some(node.index()))).collect();
         stack.extend(children.into_iter().rev());
+    }
+    if tangents_ignored > 0 {
+        soup.warnings.push(format!(
+            "TANGENT is not read ({tangents_ignored} normal-mapped primitive(s) have it): a normal texture's frame comes from each triangle's texture coordinates"
+        ));
     }
     Ok(soup)
 }
@@ -758,7 +771,7 @@ where
     let t = &soup.material_textures[textures as usize];
     let mut sets = [Vec::new(), Vec::new()];
     for (set, coords) in sets.iter_mut().enumerate() {
-        let uses = [t.base_color, t.metallic_roughness, t.emissive]
+        let uses = [t.base_color, t.metallic_roughness, t.emissive, t.normal]
             .iter()
             .any(|r| r.is_some() && r.tex_coord == set as u32);
         if !uses {

@@ -33,6 +33,24 @@ pub struct TextureStore {
     images: HashMap<usize, (u32, u32, u32)>,
 }
 
+/// `KHR_texture_transform`'s fields (the spec's defaults where absent).
+#[derive(serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
+struct Transform {
+    #[serde(default)]
+    offset: [f32; 2],
+    #[serde(default)]
+    rotation: f32,
+    #[serde(default = "unit_scale")]
+    scale: [f32; 2],
+    #[serde(default)]
+    tex_coord: Option<u32>,
+}
+
+fn unit_scale() -> [f32; 2] {
+    [1.0, 1.0]
+}
+
 /// What a texture is read from.
 pub struct Source<'a> {
     #[allow(missing_docs)] // the document
@@ -57,9 +75,63 @@ impl TextureStore {
         slot: &str,
         warnings: &mut Vec<String>,
     ) -> Result<TextureRef, SceneError> {
-        let transform = info.texture_transform();
-        let tex_coord = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(info.tex_coord());
-        let texture = info.texture().index();
+        let transform = info.texture_transform().map(|t| Transform {
+            offset: t.offset(),
+            rotation: t.rotation(),
+            scale: t.scale(),
+            tex_coord: t.tex_coord(),
+        });
+        self.reference_parts(source, info.texture().index(), info.tex_coord(), transform, slot, warnings)
+    }
+
+    /// [`TextureStore::reference`] of a material's `normalTexture` (whose info the gltf crate
+    /// reads without `KHR_texture_transform`: the extension is read here), and its scale.
+    pub fn normal_reference(
+        &mut self,
+        source: &Source,
+        normal: &gltf::material::NormalTexture,
+        slot: &str,
+        warnings: &mut Vec<String>,
+    ) -> Result<(TextureRef, f32), SceneError> {
+        let transform = match normal.extension_value("KHR_texture_transform") {
+            Some(value) => Some(serde_json::from_value::<Transform>(value.clone()).map_err(|e| {
+                SceneError::Malformed {
+                    path: source.name.into(),
+                    what: format!("{slot}.extensions.KHR_texture_transform: {e}"),
+                }
+            })?),
+            None => None,
+        };
+        let r = self.reference_parts(
+            source,
+            normal.texture().index(),
+            normal.tex_coord(),
+            transform,
+            slot,
+            warnings,
+        )?;
+        let scale = normal.scale();
+        if !scale.is_finite() {
+            return Err(SceneError::Malformed {
+                path: source.name.into(),
+                what: format!("{slot}.scale: {scale} is not finite"),
+            });
+        }
+        Ok((r, scale))
+    }
+
+    /// The reference to glTF texture `texture` through `TEXCOORD_<tex_coord>` and `transform`
+    /// (`KHR_texture_transform`, whose texCoord overrides `tex_coord`).
+    fn reference_parts(
+        &mut self,
+        source: &Source,
+        texture: usize,
+        tex_coord: u32,
+        transform: Option<Transform>,
+        slot: &str,
+        warnings: &mut Vec<String>,
+    ) -> Result<TextureRef, SceneError> {
+        let tex_coord = transform.as_ref().and_then(|t| t.tex_coord).unwrap_or(tex_coord);
         if tex_coord > 1 {
             return Err(SceneError::Unsupported {
                 path: source.name.into(),
@@ -68,7 +140,7 @@ impl TextureStore {
         }
         let transform = match transform {
             Some(t) => {
-                let m = texture_transform(t.offset(), t.rotation(), t.scale());
+                let m = texture_transform(t.offset, t.rotation, t.scale);
                 if !m.iter().all(|x| x.is_finite()) {
                     return Err(SceneError::Malformed {
                         path: source.name.into(),

@@ -286,9 +286,10 @@ impl GltfBuilder {
         self.materials.len() - 1
     }
 
-    /// Gives `material` a texture in `slot` (`baseColorTexture`, `metallicRoughnessTexture` or
-    /// `emissiveTexture`): a PNG, its sampler's JSON and an optional `KHR_texture_transform`,
-    /// read with TEXCOORD_0, which the material's meshes get from `projection`.
+    /// Gives `material` a texture in `slot` (`baseColorTexture`, `metallicRoughnessTexture`,
+    /// `emissiveTexture` or `normalTexture`): a PNG, its sampler's JSON and an optional
+    /// `KHR_texture_transform`, read with TEXCOORD_0, which the material's meshes get from
+    /// `projection`.
     pub fn texture(
         &mut self,
         material: usize,
@@ -305,7 +306,7 @@ impl GltfBuilder {
             info["extensions"] = json!({"KHR_texture_transform": t});
         }
         let m = &mut self.materials[material];
-        if slot == "emissiveTexture" {
+        if slot == "emissiveTexture" || slot == "normalTexture" {
             m[slot] = info;
         } else {
             m["pbrMetallicRoughness"][slot] = info;
