@@ -694,8 +694,9 @@ fn alpha_modes_read_as_the_spec_defines_them() {
 }
 
 /// A floor (y = 0, facing +y, TEXCOORD_0 = (x, z)) whose material has a 1 × 1 normal texture
-/// leaning towards +x, with `scale` and a `KHR_texture_transform` offset.
-fn normal_mapped_doc(scale: f32) -> Value {
+/// leaning towards +x, with `scale` and a `KHR_texture_transform` offset; with `smooth` its
+/// vertices have `NORMAL` (+y), so that its tangents are read or computed.
+fn normal_mapped_doc(scale: f32, smooth: bool) -> Value {
     use smlt::scenes::{facing, png, Planar};
     let mut b = GltfBuilder::new();
     let floor = b.pbr("floor", [0.5; 3], 0.0, 1.0);
@@ -708,7 +709,11 @@ fn normal_mapped_doc(scale: f32) -> Value {
         Planar { u: Vec3::X, v: Vec3::Z },
     );
     let q = [Vec3::new(-1., 0., -1.), Vec3::new(1., 0., -1.), Vec3::new(1., 0., 1.), Vec3::new(-1., 0., 1.)];
-    b.quad(floor, facing(q, Vec3::Y));
+    if smooth {
+        b.bent_quad(floor, facing(q, Vec3::Y), Vec3::Y);
+    } else {
+        b.quad(floor, facing(q, Vec3::Y));
+    }
     b.camera(Vec3::new(0.0, 3.0, 0.1), Vec3::ZERO, Vec3::Y, 0.8);
     b.point_light(Vec3::new(0.0, 2.0, 0.0), [1.0; 3], 10.0);
     let mut doc: Value = serde_json::from_str(&b.to_json()).unwrap();
@@ -716,38 +721,57 @@ fn normal_mapped_doc(scale: f32) -> Value {
     doc
 }
 
-/// A normal texture loads with its transform (read from the extension on `normalTexture`) and
-/// scale, its triangles get the texture coordinates it reads, and the floor's shading normal
-/// leans as the spec's tangent frame says: x along dp/du (+x here), z the normal (+y), the texel
-/// 2 c − 1 with x and y times the scale. A TANGENT it does not read is said; a scale that is no
-/// number is refused.
-#[test]
-fn a_normal_texture_loads_and_bends_the_shading_normal() {
-    let scene = load(&normal_mapped_doc(0.5)).unwrap();
-    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let t = scene.material_textures[scene.materials[1].textures as usize];
-    assert!(t.normal.is_some() && !t.base_color.is_some());
-    assert_eq!(t.normal_scale, 0.5);
-    assert_eq!(t.normal.transform, shared::texture::texture_transform([0.25, 0.5], 0.0, [1.0, 1.0]));
-    assert!(scene.texcoords.iter().any(|c| c.uv[..6].iter().any(|&u| u != 0.0)), "TEXCOORD_0 read");
+/// The floor's shading normal at (0.3, 0, −0.2), from above.
+fn floor_normal(scene: &SceneData) -> shared::normals::Normals {
     let shared_scene = scene.shared();
     let p = Vec3::new(0.3, 0.0, -0.2);
     let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT, 0);
-    let n = shared::surface::normals_at(&shared_scene, hit.triangle, p);
-    let c = |byte: f32| byte / 255.0 * 2.0 - 1.0;
-    let expected = (Vec3::X * (0.5 * c(218.0)) - Vec3::Z * (0.5 * c(128.0)) + Vec3::Y * c(218.0)).normalize();
-    assert_eq!(n.geometric, Vec3::Y);
-    assert!((n.shading - expected).length() < 1e-5, "{} against {expected}", n.shading);
+    shared::surface::normals_at(&shared_scene, hit.triangle, p)
+}
 
-    // A TANGENT (VEC4 floats, one a vertex) is not read, and said so.
+/// The texel of [`normal_mapped_doc`], decoded: 2 c − 1.
+fn texel(byte: f32) -> f32 {
+    byte / 255.0 * 2.0 - 1.0
+}
+
+/// A normal texture loads with its transform (read from the extension on `normalTexture`) and
+/// scale, its triangles get the texture coordinates it reads, and the floor's shading normal
+/// leans as the spec's tangent frame says: x along dp/du (+x here), z the normal (+y), the texel
+/// 2 c − 1 with x and y times the scale; the same whether the floor is flat (each triangle's own
+/// frame) or has normals (MikkTSpace's tangents, which on a flat, evenly mapped floor are that
+/// frame). A scale that is no number is refused.
+#[test]
+fn a_normal_texture_loads_and_bends_the_shading_normal() {
+    for smooth in [false, true] {
+        let scene = load(&normal_mapped_doc(0.5, smooth)).unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        let t = scene.material_textures[scene.materials[1].textures as usize];
+        assert!(t.normal.is_some() && !t.base_color.is_some());
+        assert_eq!(t.normal_scale, 0.5);
+        assert_eq!(t.normal.transform, shared::texture::texture_transform([0.25, 0.5], 0.0, [1.0, 1.0]));
+        assert!(scene.texcoords.iter().any(|c| c.uv[..6].iter().any(|&u| u != 0.0)), "TEXCOORD_0 read");
+        assert_eq!(scene.tangents.iter().any(|t| t.t != [0.0; 12]), smooth, "tangents computed where smooth");
+        let n = floor_normal(&scene);
+        let expected = (Vec3::X * (0.5 * texel(218.0)) - Vec3::Z * (0.5 * texel(128.0))
+            + Vec3::Y * texel(218.0))
+        .normalize();
+        assert_eq!(n.geometric, Vec3::Y);
+        assert!((n.shading - expected).length() < 1e-5, "{smooth}: {} against {expected}", n.shading);
+    }
+    let mut doc = normal_mapped_doc(1.0, false);
+    doc["materials"][0]["normalTexture"]["extensions"]["KHR_texture_transform"]["offset"] = json!("left");
+    let err = load(&doc).unwrap_err().to_string();
+    assert!(err.contains("normalTexture.extensions.KHR_texture_transform"), "{err}");
+}
+
+/// `doc` with a VEC4 float attribute `TANGENT` on its first primitive, one `tangent` a vertex.
+fn with_tangents(mut doc: Value, tangent: [f32; 4]) -> Value {
     use base64::Engine;
-    let mut doc = normal_mapped_doc(1.0);
-    let vertices = doc["accessors"]
-        [doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"].as_u64().unwrap() as usize]["count"]
+    let prim = &doc["meshes"][0]["primitives"][0];
+    let vertices = doc["accessors"][prim["attributes"]["POSITION"].as_u64().unwrap() as usize]["count"]
         .as_u64()
         .unwrap() as usize;
-    let bytes: Vec<u8> =
-        (0..vertices).flat_map(|_| [1.0f32, 0.0, 0.0, 1.0]).flat_map(f32::to_le_bytes).collect();
+    let bytes: Vec<u8> = (0..vertices).flat_map(|_| tangent).flat_map(f32::to_le_bytes).collect();
     let uri = format!(
         "data:application/octet-stream;base64,{}",
         base64::engine::general_purpose::STANDARD.encode(&bytes)
@@ -762,15 +786,55 @@ fn a_normal_texture_loads_and_bends_the_shading_normal() {
         .unwrap()
         .push(json!({"bufferView": views, "componentType": 5126, "count": vertices, "type": "VEC4"}));
     doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = json!(accessors);
-    let scene = load(&doc).unwrap();
-    assert!(
-        scene.warnings.iter().any(|w| w.contains("TANGENT is not read (1 normal-mapped")),
-        "{:?}",
-        scene.warnings
-    );
+    doc
+}
 
-    let mut doc = normal_mapped_doc(1.0);
-    doc["materials"][0]["normalTexture"]["extensions"]["KHR_texture_transform"]["offset"] = json!("left");
-    let err = load(&doc).unwrap_err().to_string();
-    assert!(err.contains("normalTexture.extensions.KHR_texture_transform"), "{err}");
+/// A mesh's `TANGENT` sets the normal texture's frame (the spec's bitangent w (n × t)), through
+/// the node's transform, a mirroring one included; a mesh without `NORMAL` is flat and its
+/// `TANGENT` ignored, as the spec says; a tangent that is not finite is refused by name.
+#[test]
+fn a_mesh_tangent_sets_the_normal_textures_frame() {
+    let (x, y) = (0.5 * texel(218.0), 0.5 * texel(128.0));
+    // Tangents along +z, w = 1: the bitangent +y × +z = +x; the texel's x leans along +z.
+    let scene = load(&with_tangents(normal_mapped_doc(0.5, true), [0.0, 0.0, 1.0, 1.0])).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let expected = (Vec3::Z * x + Vec3::X * y + Vec3::Y * texel(218.0)).normalize();
+    let n = floor_normal(&scene);
+    assert!((n.shading - expected).length() < 1e-5, "{} against {expected}", n.shading);
+    // w = −1 turns the bitangent, and with it the texel's y.
+    let scene = load(&with_tangents(normal_mapped_doc(0.5, true), [0.0, 0.0, 1.0, -1.0])).unwrap();
+    let expected = (Vec3::Z * x - Vec3::X * y + Vec3::Y * texel(218.0)).normalize();
+    let n = floor_normal(&scene);
+    assert!((n.shading - expected).length() < 1e-5, "{} against {expected}", n.shading);
+    // The node turns the floor's mesh a quarter about +y (+x to −z, +z to +x): the floor is
+    // the same square, its mesh's +z tangents now +x, which is the mapping frame again.
+    let mut doc = with_tangents(normal_mapped_doc(0.5, true), [0.0, 0.0, 1.0, 1.0]);
+    let half = std::f32::consts::FRAC_PI_4;
+    let mesh_node = doc["nodes"].as_array().unwrap().iter().position(|n| n.get("mesh").is_some()).unwrap();
+    doc["nodes"][mesh_node]["rotation"] = json!([0.0, half.sin(), 0.0, half.cos()]);
+    let turned = floor_normal(&load(&doc).unwrap());
+    let expected = (Vec3::X * x + Vec3::Z * -y + Vec3::Y * texel(218.0)).normalize();
+    assert!((turned.shading - expected).length() < 1e-4, "{} against {expected}", turned.shading);
+    // A mirroring node (z to −z) takes the mesh's +z tangents to −z and flips w, so that the
+    // bitangent, w (n × t) with the transformed normal +y, is the mirrored mesh's +x still.
+    let mut doc = with_tangents(normal_mapped_doc(0.5, true), [0.0, 0.0, 1.0, 1.0]);
+    doc["nodes"][mesh_node]["scale"] = json!([1.0, 1.0, -1.0]);
+    let mirrored = floor_normal(&load(&doc).unwrap());
+    let expected = (-Vec3::Z * x + Vec3::X * y + Vec3::Y * texel(218.0)).normalize();
+    assert_eq!(mirrored.geometric, Vec3::Y);
+    assert!((mirrored.shading - expected).length() < 1e-5, "{} against {expected}", mirrored.shading);
+    // No NORMAL: flat, the TANGENT ignored (the mapping's frame, +x).
+    let flat = load(&with_tangents(normal_mapped_doc(0.5, false), [0.0, 0.0, 1.0, 1.0])).unwrap();
+    assert!(flat.tangents.iter().all(|t| t.t == [0.0; 12]));
+    let expected = (Vec3::X * x - Vec3::Z * y + Vec3::Y * texel(218.0)).normalize();
+    assert!((floor_normal(&flat).shading - expected).length() < 1e-5);
+    let err = load(&with_tangents(normal_mapped_doc(0.5, true), [f32::NAN, 0.0, 1.0, 1.0]))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("meshes[0].primitives[0]: TANGENT 0 is not finite"), "{err}");
+    let mut short = with_tangents(normal_mapped_doc(0.5, true), [0.0, 0.0, 1.0, 1.0]);
+    let tangent = short["meshes"][0]["primitives"][0]["attributes"]["TANGENT"].as_u64().unwrap() as usize;
+    short["accessors"][tangent]["count"] = json!(1);
+    let err = load(&short).unwrap_err().to_string();
+    assert!(err.contains("meshes[0].primitives[0]: TANGENT has 1 values for"), "{err}");
 }

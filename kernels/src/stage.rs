@@ -100,6 +100,7 @@ pub const SCENE_BINDINGS: &[Binding] = &[
     scene_binding(9, "texels", core::any::type_name::<u32>),
     scene_binding(10, "texcoords", core::any::type_name::<shared::surface::TriangleTexcoords>),
     scene_binding(11, "normals", core::any::type_name::<shared::normals::TriangleNormals>),
+    scene_binding(12, "tangents", core::any::type_name::<shared::normal_map::TriangleTangents>),
 ];
 
 const fn scene_binding(binding: u32, name: &'static str, element: fn() -> &'static str) -> Binding {
@@ -295,6 +296,7 @@ macro_rules! stage {
             #[spirv(storage_buffer, descriptor_set = 1, binding = 9)] texels: &[u32],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 10)] texcoords: &[shared::surface::TriangleTexcoords],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 11)] normals: &[shared::normals::TriangleNormals],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 12)] tangents: &[shared::normal_map::TriangleTangents],
         ], [
             scene: shared::scene::Scene {
                 caster: shared::cwbvh::WideBvh {
@@ -320,6 +322,7 @@ macro_rules! stage {
                 texels,
                 texcoords,
                 normals,
+                tangents,
             },
         ]);
         impl<$lt, $r: shared::ray_caster::RayCaster + Copy> $io<$lt, $r> {

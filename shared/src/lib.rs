@@ -49,6 +49,7 @@ pub mod metallic_roughness;
 pub mod microfacet;
 pub mod mmlt;
 pub mod mutation;
+pub mod normal_map;
 pub mod normalisation;
 pub mod normals;
 pub mod params;

@@ -7,6 +7,7 @@
 use crate::bsdf::Material;
 use crate::environment::Environment;
 use crate::light::LightEntry;
+use crate::normal_map::TriangleTangents;
 use crate::normals::TriangleNormals;
 use crate::punctual::PunctualLight;
 use crate::surface::{MaterialTextures, TriangleTexcoords};
@@ -43,4 +44,7 @@ pub struct Scene<'a, R> {
     /// Per triangle in the triangles' order where any mesh has smooth normals; one zeroed
     /// (flat) entry otherwise.
     pub normals: &'a [TriangleNormals],
+    /// Per triangle in the triangles' order where any material has a normal texture; one
+    /// zeroed entry (no vertex tangents) otherwise.
+    pub tangents: &'a [TriangleTangents],
 }

@@ -10,7 +10,7 @@
 //!   blue channel of `metallicRoughnessTexture` (linear), mixed with transmission as the
 //!   untextured material is ([`Material::with_metallic`]);
 //! - emission is `emissiveFactor` × strength × `emissiveTexture`'s sRGB-decoded rgb;
-//! - the shading normal is bent by `normalTexture` ([`normal_mapped`], in [`normals_at`]).
+//! - the shading normal is bent by `normalTexture` (`crate::normal_map`, in [`normals_at`]).
 //!
 //! Texture coordinates are interpolated over the triangle from its vertices' `TEXCOORD_0` and
 //! `TEXCOORD_1` ([`TriangleTexcoords`]) at the point's barycentric coordinates, which
@@ -19,13 +19,11 @@
 //! shading normal at the same vertex. The shading normal is interpolated the same way from the
 //! vertices' `NORMAL` ([`TriangleNormals`]; `crate::normals` says which normal is used where).
 
-#[cfg(target_arch = "spirv")]
-use spirv_std::num_traits::Float;
-
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::bsdf::Material;
 use crate::element::element_or;
+use crate::normal_map::{position_derivatives, TangentFrame, TriangleTangents};
 use crate::normals::{shading_normal, Normals, TriangleNormals};
 use crate::scene::Scene;
 use crate::texture::{sample, Texture, TextureRef};
@@ -43,7 +41,7 @@ pub struct MaterialTextures {
     pub metallic_roughness: TextureRef,
     /// `emissiveTexture` (sRGB).
     pub emissive: TextureRef,
-    /// `normalTexture` (linear; a tangent-space normal, [`normal_mapped`]).
+    /// `normalTexture` (linear; a tangent-space normal, `crate::normal_map`).
     pub normal: TextureRef,
     /// glTF's metallicFactor (the material's `metallic` is a share derived from it).
     pub metallic: f32,
@@ -116,7 +114,8 @@ pub fn material_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Material {
 
 /// The geometric and shading normals of triangle `triangle` at the point `p` on it: the flat
 /// triangle's normal as both where it has no vertex normals, and the shading normal bent by the
-/// material's normal texture where it has one ([`normal_mapped`]).
+/// material's normal texture where it has one (`crate::normal_map`: in the triangle's vertex
+/// tangents where it has them, else in its texture coordinates' own frame).
 #[inline]
 pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     let tri = scene.triangles[triangle as usize];
@@ -137,67 +136,29 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
         return Normals::flat(ng);
     }
     let b = barycentrics(&tri, p);
-    let n = if flat { ng } else { shading_normal(vertex.at(b), ng) };
+    let interpolated = if flat { ng } else { vertex.at(b) };
+    let n = if flat { ng } else { shading_normal(interpolated, ng) };
     if !normal_texture {
         return Normals { geometric: ng, shading: n };
     }
     let t = element_or(scene.material_textures, textures as usize, MaterialTextures::default());
-    // The tangent frame of the normal texture's own coordinates (its set, its transform).
     let coords = element_or(scene.texcoords, triangle as usize, TriangleTexcoords::default());
     let r = t.normal;
-    let corner0 = r.coordinates(coords.at(0, Vec2::X), coords.at(1, Vec2::X));
-    let corner1 = r.coordinates(coords.at(0, Vec2::Y), coords.at(1, Vec2::Y));
-    let corner2 = r.coordinates(coords.at(0, Vec2::ZERO), coords.at(1, Vec2::ZERO));
-    let (dp_du, dp_dv) = position_derivatives(&tri, corner0, corner1, corner2);
+    // The vertex tangents' frame, else the one of the normal texture's own coordinates (its
+    // set, its transform).
+    let tangents = element_or(scene.tangents, triangle as usize, TriangleTangents::default());
+    let mut frame = TangentFrame::of_vertex_tangents(interpolated, tangents.at(b));
+    if frame.tangent == Vec3::ZERO {
+        let (dp_du, dp_dv) = position_derivatives(
+            &tri,
+            r.coordinates(coords.at(0, Vec2::X), coords.at(1, Vec2::X)),
+            r.coordinates(coords.at(0, Vec2::Y), coords.at(1, Vec2::Y)),
+            r.coordinates(coords.at(0, Vec2::ZERO), coords.at(1, Vec2::ZERO)),
+        );
+        frame = TangentFrame::of_mapping(n, dp_du, dp_dv);
+    }
     let texel = lookup(scene, r, coords.at(0, b), coords.at(1, b), false).truncate();
-    Normals {
-        geometric: ng,
-        shading: shading_normal(normal_mapped(n, dp_du, dp_dv, texel, t.normal_scale), ng),
-    }
-}
-
-/// The derivatives dp/du and dp/dv of the points of `tri` over texture coordinates that are
-/// `uv0`, `uv1`, `uv2` at its vertices (the plane's affine map, inverted); zero where the
-/// coordinates span no area.
-#[inline]
-pub fn position_derivatives(tri: &Triangle, uv0: Vec2, uv1: Vec2, uv2: Vec2) -> (Vec3, Vec3) {
-    let v0 = Vec3::from_array(tri.v0);
-    let (e1, e2) = (Vec3::from_array(tri.v1) - v0, Vec3::from_array(tri.v2) - v0);
-    let (d1, d2) = (uv1 - uv0, uv2 - uv0);
-    let det = d1.x * d2.y - d2.x * d1.y;
-    if !(det.abs() > 0.0) || !det.is_finite() {
-        return (Vec3::ZERO, Vec3::ZERO);
-    }
-    ((e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det)
-}
-
-/// glTF's normal texture (`normalTexture`): the shading normal at a point whose unbent normal
-/// is `n` (unit, on the side the surface is shaded from), where the texture coordinates have
-/// the derivatives `dp_du`, `dp_dv` ([`position_derivatives`]) and the texture reads `texel`
-/// (linear rgb in [0, 1]). The texel is a normal in tangent space, (2 rgb − 1) with x and y
-/// times `scale` (the spec's `scaledNormal`); its frame is the tangent t = dp_du made
-/// orthogonal to `n`, the bitangent ±n × t on the side of −dp_dv (the texture's +y is up in its
-/// image, and glTF's v runs down), and `n`. Per triangle, from its texture coordinates, as
-/// pbrt-v4 and Mitsuba 3 build the frame (not MikkTSpace's tangents averaged over a vertex's
-/// triangles, which the spec recommends where a mesh has no TANGENT; the same on a flat, evenly
-/// mapped surface). Unit; `n` where the coordinates give no tangent or the texel no direction.
-#[inline]
-pub fn normal_mapped(n: Vec3, dp_du: Vec3, dp_dv: Vec3, texel: Vec3, scale: f32) -> Vec3 {
-    let along = dp_du - n * n.dot(dp_du);
-    let len2 = along.length_squared();
-    if !(len2 > 0.0) || !len2.is_finite() {
-        return n;
-    }
-    let t = along / len2.sqrt();
-    let cross = n.cross(t);
-    let b = if cross.dot(dp_dv) > 0.0 { -cross } else { cross };
-    let m = texel * 2.0 - Vec3::ONE;
-    let bent = t * (m.x * scale) + b * (m.y * scale) + n * m.z;
-    let bent_len2 = bent.length_squared();
-    if !(bent_len2 > 0.0) || !bent_len2.is_finite() {
-        return n;
-    }
-    bent / bent_len2.sqrt()
+    Normals { geometric: ng, shading: shading_normal(frame.bend(texel, t.normal_scale, n), ng) }
 }
 
 /// The material of triangle `triangle` at barycentric coordinates `b` (see the module doc).

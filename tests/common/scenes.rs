@@ -258,8 +258,9 @@ pub fn brdf_scene(point: bool) -> SceneData {
 
 /// Every texture slot glTF has, each with a different sampler: a checker floor (base colour,
 /// NEAREST) whose tiles lean four ways (normalTexture, NEAREST), a wall of colour bands (base colour, bilinear, MIRRORED_REPEAT, through a
-/// `KHR_texture_transform`), a ball whose metallic-roughness texture stripes it into rough
-/// dielectric, rough metal and a glossier metal (bilinear), and an area lamp whose
+/// `KHR_texture_transform`), a smooth ball whose metallic-roughness texture stripes it into rough
+/// dielectric, rough metal and a glossier metal (bilinear) and whose normal texture ridges it
+/// (bilinear, in MikkTSpace's vertex tangents), and an area lamp whose
 /// emissiveTexture is a bright frame round a dim centre (NEAREST, CLAMP_TO_EDGE).
 #[allow(dead_code)]
 pub fn textured_scene() -> SceneData {
@@ -312,7 +313,20 @@ pub fn textured_scene() -> SceneData {
         None,
         Planar { u: Vec3::X * 1.5, v: Vec3::Y },
     );
-    b.sphere(ball, v(-0.3, 0.5, -0.6), 0.5, 10);
+    // Smooth, with a normal texture of ridges on the same coordinates: the curved mesh's
+    // vertex tangents are MikkTSpace's (the mesh has no TANGENT).
+    let ridges = png(6, 1, |x, _| {
+        [[128, 128, 255, 255], [165, 128, 245, 255], [100, 140, 248, 255]][(x % 3) as usize]
+    });
+    b.texture(
+        ball,
+        "normalTexture",
+        ridges,
+        json!({"magFilter": 9729}),
+        None,
+        Planar { u: Vec3::X * 1.5, v: Vec3::Y },
+    );
+    b.smooth_sphere(ball, v(-0.3, 0.5, -0.6), 0.5, 10);
     let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 10.0, None);
     let frame =
         png(4, 4, |x, y| if x == 0 || y == 0 || x == 3 || y == 3 { [255; 4] } else { [50, 50, 50, 255] });

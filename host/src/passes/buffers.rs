@@ -12,6 +12,7 @@ use shared::cwbvh::WideNode;
 use shared::environment::Environment;
 use shared::light::LightEntry;
 use shared::mmlt::{vertex_slots, ChainState, PathInfo, PathVertex};
+use shared::normal_map::TriangleTangents;
 use shared::normals::TriangleNormals;
 use shared::params::{RenderParams, ESTIMATOR_PATH};
 use shared::punctual::PunctualLight;
@@ -200,6 +201,8 @@ pub struct SceneBuffers<S: Storage> {
     pub texcoords: S::Of<TriangleTexcoords>,
     /// Per triangle where a mesh has smooth normals (at least one entry).
     pub normals: S::Of<TriangleNormals>,
+    /// Per triangle where a mesh has vertex tangents (at least one entry).
+    pub tangents: S::Of<TriangleTangents>,
 }
 
 impl<S: Storage> SceneBuffers<S> {
@@ -218,6 +221,7 @@ impl<S: Storage> SceneBuffers<S> {
             texels: s.copy_of("texels", "texels", &scene.texels),
             texcoords: s.copy_of("texcoords", "texture coordinates", &scene.texcoords),
             normals: s.copy_of("normals", "vertex normals", &scene.normals),
+            tangents: s.copy_of("tangents", "vertex tangents", &scene.tangents),
         }
     }
 

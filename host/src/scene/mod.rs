@@ -30,6 +30,7 @@ mod environment;
 mod lights;
 mod parse;
 mod read;
+mod tangents;
 mod textures;
 mod validate;
 
@@ -47,6 +48,7 @@ use shared::cutout::Cutouts;
 use shared::cwbvh::{WideBvh, WideNode, WIDE_BVH_STACK_SIZE};
 use shared::environment::{Environment, EnvironmentMap};
 use shared::light::{light_cdf, LightEntry, ENVIRONMENT, PUNCTUAL};
+use shared::normal_map::TriangleTangents;
 use shared::normals::TriangleNormals;
 use shared::punctual::PunctualLight;
 use shared::scene::Scene;
@@ -171,6 +173,9 @@ pub struct SceneData {
     /// Per triangle in `triangles`' order where any triangle has smooth normals; one zeroed
     /// (flat) entry otherwise.
     pub normals: Vec<TriangleNormals>,
+    /// Per triangle in `triangles`' order where any triangle has vertex tangents (a normal
+    /// texture's, `shared::normal_map`); one zeroed entry otherwise.
+    pub tangents: Vec<TriangleTangents>,
     /// The camera of the selected view.
     pub camera: CameraSpec,
     /// Every perspective camera of the file, in scene order (views 1, 2, …).
@@ -202,6 +207,9 @@ pub struct TriangleSoup {
     /// Vertex normals of each triangle, up to the last smooth one (zeros where it is flat;
     /// empty: none anywhere).
     pub normals: Vec<TriangleNormals>,
+    /// Vertex tangents of each triangle, up to the last one that has them (zeros where it has
+    /// none; empty: none anywhere).
+    pub tangents: Vec<TriangleTangents>,
     /// The file's punctual lights in world space (a directional light's centre and radius are
     /// set from the scene's bounds when the scene is built).
     pub punctual: Vec<PunctualLight>,
@@ -273,6 +281,7 @@ impl SceneData {
             texels: &self.texels,
             texcoords: &self.texcoords,
             normals: &self.normals,
+            tangents: &self.tangents,
         }
     }
 
@@ -459,6 +468,15 @@ impl SceneData {
         } else {
             vec![TriangleNormals::default()]
         };
+        // Vertex tangents likewise, where any triangle has them.
+        let tangents = if soup.tangents.iter().any(|t| *t != TriangleTangents::default()) {
+            bvh.primitive_indices
+                .iter()
+                .map(|&i| soup.tangents.get(i as usize).copied().unwrap_or_default())
+                .collect()
+        } else {
+            vec![TriangleTangents::default()]
+        };
         let mut material_textures = soup.material_textures;
         if material_textures.is_empty() {
             material_textures.push(MaterialTextures::default());
@@ -481,6 +499,7 @@ impl SceneData {
             texels,
             texcoords,
             normals,
+            tangents,
             camera,
             views: soup.cameras,
             bounds: (lo, hi),

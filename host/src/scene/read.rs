@@ -3,15 +3,17 @@
 
 use std::path::Path;
 
-use glam::{Mat4, Vec3, Vec4Swizzles};
+use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use shared::bsdf::Material;
 use shared::cutout::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE};
 use shared::environment::EnvironmentMap;
+use shared::normal_map::TriangleTangents;
 use shared::normals::TriangleNormals;
 use shared::surface::{MaterialTextures, TriangleTexcoords};
 use shared::texture::TextureRef;
 
 use super::parse::{parse, Parsed};
+use super::tangents;
 use super::textures::{Source, TextureStore};
 use super::{CameraSpec, SceneData, SceneError, TriangleSoup};
 
@@ -510,8 +512,6 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
     // glTF's node hierarchy is a set of disjoint trees: a node reached twice has two parents or
     // is its own ancestor, and a walk through a cycle would never end.
     let mut reached = vec![false; doc.nodes().len()];
-    // Normal-mapped primitives whose TANGENT is not read (one warning for all).
-    let mut tangents_ignored = 0usize;
     let mut stack: Vec<(gltf::Node, Mat4, Option<usize>)> =
         scene.nodes().map(|n| (n, Mat4::IDENTITY, None)).collect();
     stack.reverse();
@@ -634,15 +634,29 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                 };
                 let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
                 let textures = soup.materials[material as usize].textures;
-                if textures != 0
-                    && soup.material_textures[textures as usize].normal.is_some()
-                    && prim.get(&gltf::Semantic::Tangents).is_some()
-                {
-                    tangents_ignored += 1;
-                }
                 let texcoords = read_texcoords(&reader, &prim, &soup, material, &at, positions.len(), name)?;
-                let normals = read_normals(&reader, &prim, world, &at, positions.len(), name)?;
+                let local_normals = read_normals(&reader, &prim, &at, positions.len(), name)?;
+                // Normals transform by the inverse transpose of the node's matrix; a matrix
+                // without an inverse leaves degenerate triangles, which are flat.
+                let to_world = glam::Mat3::from_mat4(world).inverse().transpose();
+                let normals: Option<Vec<Vec3>> = local_normals
+                    .as_ref()
+                    .filter(|_| to_world.is_finite())
+                    .map(|n| n.iter().map(|n| (to_world * *n).normalize_or_zero()).collect());
                 let (triples, rest) = indices.as_chunks::<3>();
+                // A normal texture's vertex tangents, each triangle's corners in the mesh's space.
+                let normal_texture = Some(soup.material_textures[textures as usize].normal)
+                    .filter(|r| textures != 0 && r.is_some());
+                let tangents = match (normal_texture, &local_normals, &texcoords) {
+                    (Some(r), Some(normals), Some(sets)) => {
+                        let mesh =
+                            tangents::MeshData { positions: &local, normals, sets, triangles: triples };
+                        Some(tangents::corner_tangents(&reader, &prim, r, &mesh, &at, name)?)
+                    }
+                    // A mesh without normals is flat: the spec says to ignore its TANGENT, and
+                    // each triangle keeps its own frame.
+                    _ => None,
+                };
                 if !rest.is_empty() {
                     soup.warnings.push(format!(
                         "{at}: {} indices (or vertices) are no multiple of 3: the last {} form no triangle",
@@ -650,7 +664,7 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                         rest.len()
                     ));
                 }
-                for tri in triples {
+                for (j, tri) in triples.iter().enumerate() {
                     let mut v = [Vec3::ZERO; 3];
                     for (k, &i) in tri.iter().enumerate() {
                         v[k] = *positions.get(i as usize).ok_or_else(|| {
@@ -661,10 +675,12 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                         })?;
                     }
                     let mut corners = [tri[0], tri[1], tri[2]];
+                    let mut order = [0, 1, 2];
                     // A mirroring transform flips the winding; keep the normal's sense.
                     if world.determinant() < 0.0 {
                         v.swap(1, 2);
                         corners.swap(1, 2);
+                        order.swap(1, 2);
                     }
                     soup.triangles.push(v);
                     soup.material_of.push(material);
@@ -677,6 +693,15 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                             let n = [ns[0].to_array(), ns[1].to_array(), ns[2].to_array()];
                             soup.normals
                                 .push(TriangleNormals { n: *n.as_flattened().as_array().expect("nine") });
+                        }
+                    }
+                    if let Some(tangents) = &tangents {
+                        let t = order.map(|k| tangents::to_world(world, tangents[j][k]));
+                        if t.iter().any(|t| *t != Vec4::ZERO) {
+                            soup.tangents.resize(soup.triangles.len() - 1, TriangleTangents::default());
+                            let t = [t[0].to_array(), t[1].to_array(), t[2].to_array()];
+                            soup.tangents
+                                .push(TriangleTangents { t: *t.as_flattened().as_array().expect("twelve") });
                         }
                     }
                     if let Some(sets) = &texcoords {
@@ -697,21 +722,14 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
         let children: Vec<_> = node.children().map(|c| (c, world, Some(node.index()))).collect();
         stack.extend(children.into_iter().rev());
     }
-    if tangents_ignored > 0 {
-        soup.warnings.push(format!(
-            "TANGENT is not read ({tangents_ignored} normal-mapped primitive(s) have it): a normal texture's frame comes from each triangle's texture coordinates"
-        ));
-    }
     Ok(soup)
 }
 
-/// A primitive's vertex normals in world space (unit), or None where it has none (the mesh is
-/// flat, as the spec says) or its transform has no inverse (its triangles are degenerate).
-/// Normals transform by the inverse transpose of the node's matrix.
+/// A primitive's vertex normals in the mesh's space (of length near 1, as read), or None where
+/// it has none (the mesh is flat, as the spec says).
 fn read_normals<'a, 's, F>(
     reader: &gltf::mesh::Reader<'a, 's, F>,
     prim: &gltf::Primitive,
-    world: Mat4,
     at: &str,
     vertices: usize,
     name: &str,
@@ -732,10 +750,6 @@ where
     if local.len() < vertices {
         return Err(malformed(format!("NORMAL has {} values for {vertices} vertices", local.len())));
     }
-    let matrix = glam::Mat3::from_mat4(world).inverse().transpose();
-    if !matrix.is_finite() {
-        return Ok(None);
-    }
     let mut normals = Vec::with_capacity(local.len());
     for (i, n) in local.iter().enumerate() {
         let n = Vec3::from_array(*n);
@@ -743,7 +757,7 @@ where
         if !(n.is_finite() && n.length() > 0.5) {
             return Err(malformed(format!("NORMAL {i} is not a unit vector: {n}")));
         }
-        normals.push((matrix * n).normalize_or_zero());
+        normals.push(n);
     }
     Ok(Some(normals))
 }

@@ -3,6 +3,7 @@
 use super::*;
 use crate::environment::{Environment, NONE as NO_ENVIRONMENT};
 use crate::light::LightEntry;
+use crate::normal_map::TriangleTangents;
 use crate::normals::{Normals, TriangleNormals};
 use crate::punctual::{PunctualLight, NONE as NO_PUNCTUAL};
 use crate::texture::{srgb_to_linear, texture_transform, Texture, WRAP_CLAMP, WRAP_REPEAT};
@@ -21,6 +22,7 @@ struct Fixture {
     texels: Vec<u32>,
     texcoords: Vec<TriangleTexcoords>,
     normals: Vec<TriangleNormals>,
+    tangents: Vec<TriangleTangents>,
     lights: [LightEntry; 1],
     punctual: [PunctualLight; 1],
     environment: Environment,
@@ -41,6 +43,7 @@ impl Fixture {
             texels: &self.texels,
             texcoords: &self.texcoords,
             normals: &self.normals,
+            tangents: &self.tangents,
         }
     }
 }
@@ -130,6 +133,7 @@ fn fixture() -> Fixture {
         ],
         lights: [LightEntry { light: 0, cdf: 1.0 }],
         normals: vec![TriangleNormals::default()],
+        tangents: vec![TriangleTangents::default()],
         punctual: [NO_PUNCTUAL],
         environment: NO_ENVIRONMENT,
     }
@@ -211,48 +215,6 @@ fn shading_normals_interpolate_the_vertex_normals_at_the_point() {
     assert_eq!(normals_at(&scene, 1, Vec3::new(0.2, 0.2, 0.0)), Normals::flat(Vec3::Z));
 }
 
-/// The derivatives of a triangle's points over its texture coordinates recover the affine map
-/// that placed the points: p = o + u·a + v·c.
-#[test]
-fn position_derivatives_invert_the_texture_mapping() {
-    let (o, a, c) = (Vec3::new(1.0, -2.0, 0.5), Vec3::new(0.3, 1.2, -0.4), Vec3::new(-0.7, 0.2, 0.9));
-    let uvs = [Vec2::new(0.1, 0.2), Vec2::new(0.9, 0.35), Vec2::new(0.4, 1.1)];
-    let p = |uv: Vec2| (o + a * uv.x + c * uv.y).to_array();
-    let tri = Triangle { v0: p(uvs[0]), v1: p(uvs[1]), v2: p(uvs[2]), ..Default::default() };
-    let (dp_du, dp_dv) = position_derivatives(&tri, uvs[0], uvs[1], uvs[2]);
-    assert!((dp_du - a).abs().max_element() < 1e-5, "{dp_du} {a}");
-    assert!((dp_dv - c).abs().max_element() < 1e-5, "{dp_dv} {c}");
-    // Coordinates along a line span no area: no frame.
-    let line = [Vec2::ZERO, Vec2::new(1.0, 1.0), Vec2::new(2.0, 2.0)];
-    assert_eq!(position_derivatives(&tri, line[0], line[1], line[2]), (Vec3::ZERO, Vec3::ZERO));
-}
-
-/// The spec's tangent space: x along dp/du, y up in the image (towards decreasing v, as glTF's
-/// v runs down the image), z the normal; x and y times the scale; a mirrored mapping turns y,
-/// not x.
-#[test]
-fn a_normal_texel_bends_the_normal_in_the_tangent_frame() {
-    let (n, du, dv) = (Vec3::Z, Vec3::X * 2.0, Vec3::Y * 0.5);
-    let texel = |x: f32, y: f32, z: f32| Vec3::new(x, y, z) * 0.5 + Vec3::splat(0.5);
-    let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 1e-6;
-    assert!(close(normal_mapped(n, du, dv, texel(0.0, 0.0, 1.0), 1.0), n), "the flat texel");
-    assert!(close(normal_mapped(n, du, dv, texel(1.0, 0.0, 0.0), 1.0), Vec3::X), "+x: the tangent");
-    assert!(close(normal_mapped(n, du, dv, texel(0.0, 1.0, 0.0), 1.0), -Vec3::Y), "+y: up, −dp/dv");
-    assert!(close(normal_mapped(n, du, -dv, texel(0.0, 1.0, 0.0), 1.0), Vec3::Y), "mirrored: +y is +dp/dv");
-    let tilted = normal_mapped(n, du, dv, texel(0.6, -0.6, 0.6), 0.5);
-    assert!(close(tilted, Vec3::new(0.3, 0.3, 0.6).normalize()), "{tilted}");
-    // The tangent is made orthogonal to a tilted normal; the result stays unit.
-    let m = Vec3::new(0.0, 0.6, 0.8);
-    let bent = normal_mapped(m, Vec3::new(1.0, 0.0, 0.3), dv, texel(0.0, 0.0, 1.0), 1.0);
-    assert!(close(bent, m), "{bent}");
-    let bent = normal_mapped(m, Vec3::new(1.0, 0.0, 0.3), dv, texel(0.5, 0.1, 0.7), 2.0);
-    assert!((bent.length() - 1.0).abs() < 1e-6);
-    // No frame (no tangent off the normal, or no direction in the texel): the normal as it is.
-    assert_eq!(normal_mapped(n, Vec3::Z, dv, texel(1.0, 0.0, 0.0), 1.0), n);
-    assert_eq!(normal_mapped(n, Vec3::ZERO, Vec3::ZERO, texel(1.0, 0.0, 0.0), 1.0), n);
-    assert_eq!(normal_mapped(n, du, dv, Vec3::splat(0.5), 1.0), n);
-}
-
 /// A material's normal texture bends the shading normal of its triangles at the point's
 /// coordinates (through the texture's own set and transform), the geometric normal stays, and a
 /// material without one keeps the flat normal.
@@ -284,4 +246,31 @@ fn the_normal_texture_bends_the_shading_normal() {
         "{right:?}"
     );
     assert_eq!(normals_at(&scene, 1, Vec3::new(0.2, 0.1, 0.0)), Normals::flat(Vec3::Z));
+}
+
+/// Where a triangle has vertex tangents the normal texture bends the normal in their frame,
+/// not in its coordinates' own.
+#[test]
+fn vertex_tangents_set_the_normal_textures_frame() {
+    let mut f = fixture();
+    // A 1 × 1 texture on TEXCOORD_0 whose texel leans fully to +x.
+    let first = f.texels.len() as u32;
+    f.texels.push(rgba(255, 128, 128, 255));
+    f.textures.push(Texture {
+        offset: first,
+        width: 1,
+        height: 1,
+        sampler: Texture::sampler(WRAP_REPEAT, WRAP_REPEAT, false),
+    });
+    f.material_textures[1].normal =
+        TextureRef { texture: 3, tex_coord: 0, transform: crate::texture::IDENTITY };
+    let p = Vec3::new(0.2, 0.1, 0.0);
+    let c = 128.0 / 255.0 * 2.0 - 1.0;
+    let mapped = normals_at(&f.scene(), 0, p).shading;
+    assert!((mapped - Vec3::new(1.0, -c, c).normalize()).abs().max_element() < 1e-6, "{mapped}");
+    // Tangents along +y (w = −1: the bitangent −(n × t) = +x): the texel's +x leans to +y.
+    let along_y = [0.0, 1.0, 0.0, -1.0];
+    f.tangents = vec![TriangleTangents { t: [along_y, along_y, along_y].concat().try_into().unwrap() }];
+    let bent = normals_at(&f.scene(), 0, p).shading;
+    assert!((bent - Vec3::new(c, 1.0, c).normalize()).abs().max_element() < 1e-6, "{bent}");
 }
