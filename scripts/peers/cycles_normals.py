@@ -57,7 +57,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cycles_peer import camera_node_names, named_cameras  # noqa: E402
+from cycles_peer import named_cameras, use_view_camera  # noqa: E402
 
 
 def read_exr(path, channels="RGB"):
@@ -131,19 +131,7 @@ def setup(a, folder):
         raise SystemExit(f"{a.scene}: not a readable .gltf (JSON) file: {e}")
     bpy.ops.import_scene.gltf(filepath=named_cameras(doc, a.scene, folder))
     scene = bpy.context.scene
-    names = camera_node_names(doc)
-    if not 1 <= a.view <= len(names):
-        raise SystemExit(f"view {a.view}: the scene has {len(names)} cameras")
-    name, index = names[a.view - 1]
-    imported = [o for o in scene.objects if o.type == "CAMERA"]
-    cams = [o for o in imported if o.name == name] if name else imported if len(names) == 1 else []
-    if len(cams) != 1:
-        raise SystemExit(f"view {a.view}: no single imported camera for glTF camera node {name!r}")
-    cam = cams[0]
-    cam.data.lens_unit = "FOV"
-    cam.data.sensor_fit = "VERTICAL"
-    cam.data.angle = doc["cameras"][index]["perspective"]["yfov"]
-    scene.camera = cam
+    cam = use_view_camera(doc, scene, a.view)
     notes = [] if a.keep_materials else diffuse_only(bpy)
     for mat in bpy.data.materials:
         for node in (mat.node_tree.nodes if mat.node_tree else []):

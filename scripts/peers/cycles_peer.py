@@ -249,6 +249,26 @@ def named_cameras(doc, path, folder):
     return copy
 
 
+def use_view_camera(doc, scene, view):
+    """Makes the imported camera of the glTF's `view`-th camera node (1, 2, ... in depth-first
+    node order, as smlt counts views) the scene's, its vertical field of view the file's (sensor
+    fit vertical, so that any render size keeps it); returns it."""
+    names = camera_node_names(doc)
+    if not 1 <= view <= len(names):
+        raise SystemExit(f"view {view}: the scene has {len(names)} cameras")
+    name, index = names[view - 1]
+    imported = [o for o in scene.objects if o.type == "CAMERA"]
+    cams = [o for o in imported if o.name == name] if name else imported if len(names) == 1 else []
+    if len(cams) != 1:
+        raise SystemExit(f"view {view}: no single imported camera for glTF camera node {name!r}")
+    cam = cams[0]
+    cam.data.lens_unit = "FOV"
+    cam.data.sensor_fit = "VERTICAL"
+    cam.data.angle = doc["cameras"][index]["perspective"]["yfov"]
+    scene.camera = cam
+    return cam
+
+
 def setup(a):
     import bpy
 
@@ -270,20 +290,7 @@ def setup(a):
             if light.type == "SUN":
                 light.angle = 0.0
             notes.append(f"{obj.name}: {light.type} {light.energy:.4f}, radius/angle 0")
-    names = camera_node_names(doc)
-    if not 1 <= a.view <= len(names):
-        raise SystemExit(f"view {a.view}: the scene has {len(names)} cameras")
-    name, index = names[a.view - 1]
-    imported = [o for o in scene.objects if o.type == "CAMERA"]
-    cams = [o for o in imported if o.name == name] if name else imported if len(names) == 1 else []
-    if len(cams) != 1:
-        raise SystemExit(f"view {a.view}: no single imported camera for glTF camera node {name!r}")
-    cam = cams[0]
-    yfov = doc["cameras"][index]["perspective"]["yfov"]
-    cam.data.lens_unit = "FOV"
-    cam.data.sensor_fit = "VERTICAL"
-    cam.data.angle = yfov
-    scene.camera = cam
+    use_view_camera(doc, scene, a.view)
     fix_materials(bpy, doc, notes)
     environment(bpy, scene, a.environment, a.environment_strength, a.environment_rotation)
     scene.render.engine = "CYCLES"
