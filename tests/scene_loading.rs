@@ -837,4 +837,12 @@ fn a_mesh_tangent_sets_the_normal_textures_frame() {
     short["accessors"][tangent]["count"] = json!(1);
     let err = load(&short).unwrap_err().to_string();
     assert!(err.contains("meshes[0].primitives[0]: TANGENT has 1 values for"), "{err}");
+    let mut vec3 = with_tangents(normal_mapped_doc(0.5, true), [0.0, 0.0, 1.0, 1.0]);
+    vec3["accessors"][tangent]["type"] = json!("VEC3");
+    let err = load(&vec3).unwrap_err().to_string();
+    assert!(err.contains("meshes[0].primitives[0]: TANGENT must be a VEC4 of floats"), "{err}");
+    let mut ints = with_tangents(normal_mapped_doc(0.5, true), [0.0, 0.0, 1.0, 1.0]);
+    ints["accessors"][tangent]["componentType"] = json!(5123);
+    let err = load(&ints).unwrap_err().to_string();
+    assert!(err.contains("meshes[0].primitives[0]: TANGENT must be a VEC4 of floats"), "{err}");
 }

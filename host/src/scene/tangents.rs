@@ -96,8 +96,8 @@ where
 }
 
 /// A primitive's `TANGENT` in the mesh's space, one a vertex, or None where it has none. A
-/// tangent that is not finite is refused; one of no length reads as none (zero: that triangle
-/// keeps its own frame).
+/// tangent that is not finite is refused; a zero one gives no direction (a triangle whose three
+/// are zero keeps its own frame).
 fn read_tangents<'a, 's, F>(
     reader: &gltf::mesh::Reader<'a, 's, F>,
     prim: &gltf::Primitive,

@@ -108,6 +108,31 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
                 Some(_) => return Err(format!("{at}: POSITION must be a VEC3 of floats")),
                 None => return Err(format!("{at}: POSITION accessor {position} does not exist")),
             }
+            // The other attributes the reader reads, of the types the spec allows (without
+            // KHR_mesh_quantization, which the reader refuses): read as another type, their
+            // values would be misread, not refused.
+            let attributes = prim.get("attributes").and_then(Value::as_object).into_iter().flatten();
+            for (name, accessor) in attributes {
+                let allowed: &[(u64, u64)] = match name.as_str() {
+                    "NORMAL" => &[(3, 5126)],
+                    "TANGENT" => &[(4, 5126)],
+                    // Floats, or unsigned bytes or shorts read as normalised.
+                    "TEXCOORD_0" | "TEXCOORD_1" => &[(2, 5126), (2, 5121), (2, 5123)],
+                    _ => continue,
+                };
+                let Some(&(_, _, components, kind)) = accessor.as_u64().and_then(|k| counts.get(k as usize))
+                else {
+                    return Err(format!("{at}: {name} accessor {accessor} does not exist"));
+                };
+                if !allowed.iter().any(|&(c, k)| c == components && Some(k) == kind) {
+                    let what = match name.as_str() {
+                        "NORMAL" => "a VEC3 of floats",
+                        "TANGENT" => "a VEC4 of floats",
+                        _ => "a VEC2 of floats, unsigned bytes or unsigned shorts",
+                    };
+                    return Err(format!("{at}: {name} must be {what}"));
+                }
+            }
             // An index (or vertex) count that is no multiple of 3 leaves an incomplete triangle,
             // which the reader drops with a warning (the validator's warning
             // MESH_PRIMITIVE_INCOMPATIBLE_MODE).
@@ -273,7 +298,7 @@ mod tests {
     #[test]
     fn each_problem_is_named_by_its_path() {
         assert_eq!(validate(&doc(), &[48]), Ok(()));
-        let cases: [(&str, Value, &str); 12] = [
+        let cases: [(&str, Value, &str); 16] = [
             ("/buffers/0/byteLength", json!(4800), "buffers[0]: byteLength is 4800"),
             (
                 "/bufferViews/1/byteOffset",
@@ -298,7 +323,31 @@ mod tests {
                 "baseColorFactor: 2 is outside [0, 1]",
             ),
             ("/materials/0/emissiveFactor", json!([1, -1, 1]), "emissiveFactor: -1 is outside [0, 1]"),
+            (
+                "/meshes/0/primitives/0/attributes/NORMAL",
+                json!(1),
+                "primitives[0]: NORMAL must be a VEC3 of floats",
+            ),
+            (
+                "/meshes/0/primitives/0/attributes/TANGENT",
+                json!(0),
+                "primitives[0]: TANGENT must be a VEC4 of floats",
+            ),
+            (
+                "/meshes/0/primitives/0/attributes/TEXCOORD_1",
+                json!(0),
+                "primitives[0]: TEXCOORD_1 must be a VEC2",
+            ),
+            (
+                "/meshes/0/primitives/0/attributes/NORMAL",
+                json!(7),
+                "primitives[0]: NORMAL accessor 7 does not exist",
+            ),
         ];
+        // Attributes of the types the spec gives them pass.
+        let mut d = doc();
+        d["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = json!(0);
+        assert_eq!(validate(&d, &[48]), Ok(()));
         for (pointer, value, expected) in cases {
             let mut d = doc();
             let (parent, key) = pointer.rsplit_once('/').unwrap();
