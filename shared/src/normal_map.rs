@@ -22,9 +22,9 @@ use glam::{Vec2, Vec3, Vec4};
 use crate::triangle::Triangle;
 
 /// A triangle's vertex tangents (uploaded as it is, one per triangle in the triangles' order
-/// where any material has a normal texture): xyz and the bitangent's sign w (±1) of its three
-/// vertices in world space; all zeros where it has none (its material has no normal texture, or
-/// its mesh no normals).
+/// where any triangle has them): xyz and the bitangent's sign w (±1) of its three vertices in
+/// world space; all zeros where it has none (its material has no normal texture, or its mesh no
+/// normals).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TriangleTangents {

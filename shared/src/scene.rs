@@ -44,7 +44,8 @@ pub struct Scene<'a, R> {
     /// Per triangle in the triangles' order where any mesh has smooth normals; one zeroed
     /// (flat) entry otherwise.
     pub normals: &'a [TriangleNormals],
-    /// Per triangle in the triangles' order where any material has a normal texture; one
-    /// zeroed entry (no vertex tangents) otherwise.
+    /// Per triangle in the triangles' order where any triangle has vertex tangents (its
+    /// material has a normal texture, its mesh normals: `crate::normal_map`); one zeroed entry
+    /// otherwise.
     pub tangents: &'a [TriangleTangents],
 }
