@@ -751,6 +751,8 @@ fn a_normal_texture_loads_and_bends_the_shading_normal() {
         assert_eq!(t.normal.transform, shared::texture::texture_transform([0.25, 0.5], 0.0, [1.0, 1.0]));
         assert!(scene.texcoords.iter().any(|c| c.uv[..6].iter().any(|&u| u != 0.0)), "TEXCOORD_0 read");
         assert_eq!(scene.tangents.iter().any(|t| t.t != [0.0; 12]), smooth, "tangents computed where smooth");
+        let contents = scene.describe_contents();
+        assert_eq!(contents.contains("2 with a normal texture's tangents"), smooth, "{contents}");
         let n = floor_normal(&scene);
         let expected = (Vec3::X * (0.5 * texel(218.0)) - Vec3::Z * (0.5 * texel(128.0))
             + Vec3::Y * texel(218.0))

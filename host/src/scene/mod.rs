@@ -335,12 +335,20 @@ impl SceneData {
     }
 
     /// What the scene holds, in words for the render summary: its triangles (how many are
-    /// smooth) and, where it has any, its textures and the memory of their texels.
+    /// smooth, how many have vertex tangents for a normal texture) and, where it has any, its
+    /// textures and the memory of their texels.
     pub fn describe_contents(&self) -> String {
         let smooth = self.normals.iter().filter(|n| **n != TriangleNormals::default()).count();
+        let tangents = self.tangents.iter().filter(|t| **t != TriangleTangents::default()).count();
         let mut text = format!("{} triangles", self.triangles.len());
-        if smooth > 0 {
-            text += &format!(" ({smooth} with smooth normals)");
+        let counts: Vec<String> =
+            [(smooth, "with smooth normals"), (tangents, "with a normal texture's tangents")]
+                .iter()
+                .filter(|(n, _)| *n > 0)
+                .map(|(n, what)| format!("{n} {what}"))
+                .collect();
+        if !counts.is_empty() {
+            text += &format!(" ({})", counts.join(", "));
         }
         let textures = self.material_textures.len().saturating_sub(1);
         if textures > 0 {
