@@ -23,8 +23,8 @@ use crate::triangle::Triangle;
 
 /// A triangle's vertex tangents (uploaded as it is, one per triangle in the triangles' order
 /// where any triangle has them): xyz and the bitangent's sign w (±1) of its three vertices in
-/// world space; all zeros where it has none (its material has no normal texture, or its mesh no
-/// normals).
+/// world space; all zeros where it has none (its material has no normal texture, its mesh no
+/// normals, or MikkTSpace found no tangent for it), and the triangle keeps its own frame.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct TriangleTangents {

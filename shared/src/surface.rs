@@ -147,7 +147,10 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     // The vertex tangents' frame, else the one of the normal texture's own coordinates (its
     // set, its transform).
     let tangents = element_or(scene.tangents, triangle as usize, TriangleTangents::default());
-    let mut frame = TangentFrame::of_vertex_tangents(interpolated, tangents.at(b));
+    // The vertex normal as interpolated (MikkTSpace's), but where vertex normals cancel, the
+    // normal the shading falls back to.
+    let frame_normal = if interpolated.length_squared() > 1e-12 { interpolated } else { n };
+    let mut frame = TangentFrame::of_vertex_tangents(frame_normal, tangents.at(b));
     if frame.tangent == Vec3::ZERO {
         let (dp_du, dp_dv) = position_derivatives(
             &tri,

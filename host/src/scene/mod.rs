@@ -11,9 +11,10 @@
 //!   (`KHR_materials_transmission`, `_volume`); `emissiveFactor` ×
 //!   `KHR_materials_emissive_strength` → emission (one-sided, along the triangle's
 //!   counter-clockwise normal); the Phong exponent from the material's extras, key
-//!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness and
-//!   emissive textures (`textures`). Other material extensions and textures change the image
-//!   but are not modelled: each is named in a printed warning;
+//!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness,
+//!   emissive and normal textures (`textures`), a normal texture in the mesh's `TANGENT`s or
+//!   MikkTSpace's (`tangents`). Other material extensions and textures change the image but are
+//!   not modelled: each is named in a printed warning;
 //! - punctual lights (`KHR_lights_punctual`: point, spot, directional) on their nodes, in
 //!   Blender's units (`lights`);
 //! - perspective cameras, in the order of a depth-first walk of the scene: view 1 is the first

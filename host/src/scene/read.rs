@@ -644,6 +644,13 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                     .filter(|_| to_world.is_finite())
                     .map(|n| n.iter().map(|n| (to_world * *n).normalize_or_zero()).collect());
                 let (triples, rest) = indices.as_chunks::<3>();
+                // Every corner a vertex, before anything reads the corners.
+                if let Some(&i) = triples.as_flattened().iter().find(|&&i| i as usize >= positions.len()) {
+                    return Err(malformed(format!(
+                        "{at}.indices: index {i} is not below the {} vertices",
+                        positions.len()
+                    )));
+                }
                 // A normal texture's vertex tangents, each triangle's corners in the mesh's space.
                 let normal_texture = Some(soup.material_textures[textures as usize].normal)
                     .filter(|r| textures != 0 && r.is_some());
@@ -651,7 +658,14 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                     (Some(r), Some(normals), Some(sets)) => {
                         let mesh =
                             tangents::MeshData { positions: &local, normals, sets, triangles: triples };
-                        Some(tangents::corner_tangents(&reader, &prim, r, &mesh, &at, name)?)
+                        Some(tangents::corner_tangents(
+                            &reader,
+                            &prim,
+                            r,
+                            &mesh,
+                            (&at, name),
+                            &mut soup.warnings,
+                        )?)
                     }
                     // A mesh without normals is flat: the spec says to ignore its TANGENT, and
                     // each triangle keeps its own frame.

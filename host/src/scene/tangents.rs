@@ -74,13 +74,15 @@ pub struct MeshData<'a> {
 /// The vertex tangents of a primitive whose material has the normal texture `r`, at each
 /// triangle's corners in the mesh's space: its `TANGENT` where it has one, else MikkTSpace's
 /// over its positions, normals and `r`'s coordinates.
+/// (`at`, `name`: the primitive's glTF path and the file's, for errors; a primitive whose
+/// triangles MikkTSpace does not take keeps each triangle's own frame, said in `warnings`.)
 pub fn corner_tangents<'a, 's, F>(
     reader: &gltf::mesh::Reader<'a, 's, F>,
     prim: &gltf::Primitive,
     r: TextureRef,
     mesh: &MeshData,
-    at: &str,
-    name: &str,
+    (at, name): (&str, &str),
+    warnings: &mut Vec<String>,
 ) -> Result<Vec<[Vec4; 3]>, SceneError>
 where
     F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
@@ -90,9 +92,37 @@ where
         return Ok(mesh.triangles.iter().map(|t| t.map(corner)).collect());
     }
     let positions: Vec<Vec3> = mesh.positions.iter().map(|p| Vec3::from_array(*p)).collect();
+    let fan = largest_fan(&positions, mesh.triangles);
+    if fan > MAX_FAN {
+        warnings.push(format!(
+            "{at}: {fan} triangle corners share one position, more than MikkTSpace is given ({MAX_FAN}): its normal texture is read in each triangle's own frame"
+        ));
+        return Ok(vec![[Vec4::ZERO; 3]; mesh.triangles.len()]);
+    }
     let normals: Vec<Vec3> = mesh.normals.iter().map(|n| n.normalize()).collect();
     let coordinates = normal_texture_coordinates(r, mesh.sets);
     Ok(mikktspace(&positions, &normals, &coordinates, mesh.triangles))
+}
+
+/// The most triangle corners that MikkTSpace is given at one position. Its grouping of the
+/// triangles around a vertex recurses once a triangle and its welding compares the corners at
+/// one position pairwise (the reference implementation's, which `bevy_mikktspace` keeps): a fan
+/// of tens of thousands of triangles, or a mesh whose positions are all one (a POSITION
+/// accessor without data reads as zeros), would exhaust the stack or the time. A real mesh's
+/// vertex joins a few dozen triangles.
+pub const MAX_FAN: usize = 4096;
+
+/// The most corners of `triangles` (indices into `positions`) at one position.
+fn largest_fan(positions: &[Vec3], triangles: &[[u32; 3]]) -> usize {
+    let mut at = std::collections::HashMap::new();
+    let mut largest = 0;
+    for &i in triangles.as_flattened() {
+        let p = positions.get(i as usize).copied().unwrap_or_default();
+        let count = at.entry(p.to_array().map(f32::to_bits)).or_insert(0usize);
+        *count += 1;
+        largest = largest.max(*count);
+    }
+    largest
 }
 
 /// A primitive's `TANGENT` in the mesh's space, one a vertex, or None where it has none. A
@@ -216,6 +246,14 @@ mod tests {
         let n = Vec3::NEG_Z;
         assert_eq!(n.cross(Vec3::X) * -1.0, Vec3::Y);
         assert_eq!(to_world(mirror, Vec4::ZERO), Vec4::ZERO);
+    }
+
+    /// Corners are counted by position, whichever vertex they index.
+    #[test]
+    fn the_largest_fan_counts_the_corners_at_one_position() {
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::ZERO];
+        assert_eq!(largest_fan(&positions, &[[0, 1, 2], [3, 2, 1], [0, 1, 2]]), 3);
+        assert_eq!(largest_fan(&positions, &[]), 0);
     }
 
     /// The normal texture's coordinates are its own set through its transform.

@@ -91,7 +91,14 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
         if let Some(sparse) = a.get("sparse") {
             check_sparse(sparse, count, component * components, &views, &format!("{at}.sparse"))?;
         }
-        counts.push((count, component, components, a.get("componentType").and_then(Value::as_u64)));
+        let normalized = a.get("normalized").and_then(Value::as_bool).unwrap_or(false);
+        counts.push((
+            count,
+            component,
+            components,
+            a.get("componentType").and_then(Value::as_u64),
+            normalized,
+        ));
     }
     for (m, mesh) in list("meshes").iter().enumerate() {
         let primitives = mesh.get("primitives").and_then(Value::as_array).map(Vec::as_slice).unwrap_or(&[]);
@@ -104,7 +111,7 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
                 continue; // nothing to draw: the reader skips it, as the spec says
             };
             match position.as_u64().and_then(|k| counts.get(k as usize)) {
-                Some(&(_, 4, 3, Some(5126))) => {}
+                Some(&(_, 4, 3, Some(5126), _)) => {}
                 Some(_) => return Err(format!("{at}: POSITION must be a VEC3 of floats")),
                 None => return Err(format!("{at}: POSITION accessor {position} does not exist")),
             }
@@ -116,19 +123,22 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
                 let allowed: &[(u64, u64)] = match name.as_str() {
                     "NORMAL" => &[(3, 5126)],
                     "TANGENT" => &[(4, 5126)],
-                    // Floats, or unsigned bytes or shorts read as normalised.
+                    // Floats, or normalised unsigned bytes or shorts.
                     "TEXCOORD_0" | "TEXCOORD_1" => &[(2, 5126), (2, 5121), (2, 5123)],
                     _ => continue,
                 };
-                let Some(&(_, _, components, kind)) = accessor.as_u64().and_then(|k| counts.get(k as usize))
+                let Some(&(_, _, components, kind, normalized)) =
+                    accessor.as_u64().and_then(|k| counts.get(k as usize))
                 else {
                     return Err(format!("{at}: {name} accessor {accessor} does not exist"));
                 };
-                if !allowed.iter().any(|&(c, k)| c == components && Some(k) == kind) {
+                // Integers only normalised (the reader divides them by their maximum).
+                let integer_ok = kind == Some(5126) || normalized;
+                if !allowed.iter().any(|&(c, k)| c == components && Some(k) == kind) || !integer_ok {
                     let what = match name.as_str() {
                         "NORMAL" => "a VEC3 of floats",
                         "TANGENT" => "a VEC4 of floats",
-                        _ => "a VEC2 of floats, unsigned bytes or unsigned shorts",
+                        _ => "a VEC2 of floats, or of normalised unsigned bytes or shorts",
                     };
                     return Err(format!("{at}: {name} must be {what}"));
                 }
@@ -137,7 +147,7 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
             // which the reader drops with a warning (the validator's warning
             // MESH_PRIMITIVE_INCOMPATIBLE_MODE).
             if let Some(k) = uint(prim, "indices", &at)? {
-                let &(_, _, components, kind) =
+                let &(_, _, components, kind, _) =
                     counts.get(k as usize).ok_or(format!("{at}.indices: accessors[{k}] does not exist"))?;
                 if components != 1 || !matches!(kind, Some(5121 | 5123 | 5125)) {
                     return Err(format!("{at}.indices: accessors[{k}] must be unsigned integer scalars"));
@@ -285,7 +295,8 @@ mod tests {
             "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 12}],
             "accessors": [
                 {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
-                {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}
+                {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"},
+                {"bufferView": 1, "componentType": 5123, "count": 3, "type": "VEC2"}
             ],
             "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
             "nodes": [{"mesh": 0, "rotation": [0, 0, 0, 1]}],
@@ -298,7 +309,7 @@ mod tests {
     #[test]
     fn each_problem_is_named_by_its_path() {
         assert_eq!(validate(&doc(), &[48]), Ok(()));
-        let cases: [(&str, Value, &str); 16] = [
+        let cases: [(&str, Value, &str); 17] = [
             ("/buffers/0/byteLength", json!(4800), "buffers[0]: byteLength is 4800"),
             (
                 "/bufferViews/1/byteOffset",
@@ -343,10 +354,18 @@ mod tests {
                 json!(7),
                 "primitives[0]: NORMAL accessor 7 does not exist",
             ),
+            // Unsigned shorts as texture coordinates, not normalised: only KHR_mesh_quantization's.
+            (
+                "/meshes/0/primitives/0/attributes/TEXCOORD_0",
+                json!(2),
+                "primitives[0]: TEXCOORD_0 must be a VEC2",
+            ),
         ];
-        // Attributes of the types the spec gives them pass.
+        // Attributes of the types the spec gives them pass: normalised unsigned shorts too.
         let mut d = doc();
         d["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = json!(0);
+        d["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(2);
+        d["accessors"][2]["normalized"] = json!(true);
         assert_eq!(validate(&d, &[48]), Ok(()));
         for (pointer, value, expected) in cases {
             let mut d = doc();
