@@ -2,7 +2,7 @@
 //! (`crate::metallic_roughness`; Lambertian where its dielectric layer is off), a normalised
 //! Phong lobe (the paper's banner), a dielectric (glTF's transmission: glass, thin-walled or
 //! solid; smooth, or rough with a GGX microfacet BSDF), and emission (area lights are emissive
-//! triangles).
+//! triangles); over any of them, glTF's clear coat (`crate::clearcoat`).
 //!
 //! Surfaces are two-sided for scattering: the BSDF works on the side that `wo` lies on, and
 //! `wo` and `wi` on opposite sides give 0 except through a dielectric: a smooth one's delta
@@ -45,6 +45,7 @@ use spirv_std::num_traits::Float;
 use core::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
+use crate::clearcoat as coat;
 use crate::metallic_roughness::{self as brdf, MetallicRoughness};
 pub use crate::normals::Normals;
 
@@ -85,6 +86,12 @@ pub struct Material {
     /// Index of the material's textures in the scene's `material_textures`
     /// (`crate::surface`); 0: none, the material is the same everywhere.
     pub textures: u32,
+    /// `KHR_materials_clearcoat`'s clearcoatFactor: the coat layer's intensity over the whole
+    /// material (`crate::clearcoat`); 0: no coat.
+    pub clearcoat: f32,
+    /// The coat's GGX roughness α (clearcoatRoughnessFactor²); below [`SMOOTH_ALPHA`] a
+    /// mirror.
+    pub clearcoat_alpha: f32,
 }
 
 /// The roughness α below which a dielectric is smooth: a GGX lobe that narrow is a mirror to
@@ -131,13 +138,19 @@ impl Material {
         self.metallic == 0.0 && self.specular == 0.0
     }
 
-    /// Whether the material has a delta lobe: a smooth dielectric, or the smooth mirror of the
-    /// glTF BRDF's specular lobe.
+    /// Whether the material has a delta lobe: a smooth dielectric, the smooth mirror of the
+    /// glTF BRDF's specular lobe, or a smooth clear coat.
     #[inline]
     pub fn has_delta_lobe(&self) -> bool {
         let glass = self.transmission > 0.0 && !self.is_rough_dielectric();
         let mirror = self.transmission < 1.0 && self.phong_exponent == 0.0 && self.brdf().has_mirror();
-        glass || mirror
+        glass || mirror || self.has_smooth_coat()
+    }
+
+    /// Whether the material has a clear coat that is a mirror (`crate::clearcoat`).
+    #[inline]
+    pub fn has_smooth_coat(&self) -> bool {
+        self.clearcoat > 0.0 && self.clearcoat_alpha < SMOOTH_ALPHA
     }
 
     /// Whether the material's dielectric share is rough (a solid's, of α ≥ [`SMOOTH_ALPHA`]):
@@ -344,12 +357,34 @@ fn rough_dielectric_pdf(alpha: f32, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
 }
 
 /// f(wo, wi) at a surface with normals `n` (all unit; `wo` and `wi` point away); `radiance` is
-/// the transport mode (see [`dielectric_sample`]; only a rough dielectric's transmission
-/// depends on it).
+/// the transport mode (see [`dielectric_sample`]; a rough dielectric's transmission and the
+/// clear coat's weight depend on it): the material's lobes under its clear coat
+/// (`crate::clearcoat`).
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn bsdf_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
+    let base = base_eval(m, n, wo, wi, radiance);
+    if !(m.clearcoat > 0.0) {
+        return base;
+    }
+    let Some(ns) = shading_side(n, wo) else {
+        return Vec3::ZERO;
+    };
+    let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(ns, wo, wi, radiance));
+    let layer = if sides_agree(n, wo, wi) {
+        coat::eval(m.clearcoat_alpha, to_local(ns, wo), to_local(ns, wi))
+    } else {
+        0.0
+    };
+    base * (1.0 - w) + Vec3::splat(w * layer)
+}
+
+/// f(wo, wi) of the material's lobes without its clear coat ([`bsdf_eval`]).
+// Calls on the device, not copies at every call site: the module stays ~20 % smaller.
+#[cfg_attr(target_arch = "spirv", inline(never))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
     let Some(ns) = shading_side(n, wo) else {
         return Vec3::ZERO;
     };
@@ -398,11 +433,34 @@ fn brdf_pdf(m: &Material, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
     brdf::pdf(&m.brdf(), to_local(ns, wo), to_local(ns, wi))
 }
 
-/// Solid-angle density with which [`bsdf_sample`] picks `wi` given `wo`.
+/// Solid-angle density with which [`bsdf_sample`] picks `wi` given `wo`, without the delta
+/// lobes' discrete probabilities.
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn bsdf_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
+    let base = base_pdf(m, n, wo, wi);
+    if !(m.clearcoat > 0.0) {
+        return base;
+    }
+    let Some(ns) = shading_side(n, wo) else {
+        return 0.0;
+    };
+    let p = coat::probability(m.clearcoat, ns.dot(wo));
+    let layer = if sides_agree(n, wo, wi) {
+        coat::pdf(m.clearcoat_alpha, to_local(ns, wo), to_local(ns, wi))
+    } else {
+        0.0
+    };
+    (1.0 - p) * base + p * layer
+}
+
+/// The density of sampling `wi` from the material's lobes without its clear coat
+/// ([`bsdf_pdf`]).
+// Calls on the device, not copies at every call site: the module stays ~20 % smaller.
+#[cfg_attr(target_arch = "spirv", inline(never))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
     let Some(ns) = shading_side(n, wo) else {
         return 0.0;
     };
@@ -555,13 +613,17 @@ fn dielectric_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radi
 }
 
 /// Samples `wi` for `wo` with `u` ∈ [0,1)²; `radiance` is the transport mode (see
-/// [`dielectric_sample`]; the other lobes are reciprocal).
+/// [`dielectric_sample`] and `crate::clearcoat`; the other lobes are reciprocal).
 #[inline]
 pub fn bsdf_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
     let Some(ns) = shading_side(n, wo) else {
         return BsdfSample::default();
     };
-    let bs = lobe_sample(m, n, ns, wo, u, radiance);
+    let bs = if m.clearcoat > 0.0 {
+        coated_sample(m, n, ns, wo, u, radiance)
+    } else {
+        lobe_sample(m, n, ns, wo, u, radiance)
+    };
     // A delta lobe's direction where the normals disagree on its side fails (the others'
     // densities are 0 there already).
     if bs.delta && !sides_agree(n, wo, bs.wi) {
@@ -570,7 +632,45 @@ pub fn bsdf_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) 
     bs
 }
 
-/// [`bsdf_sample`]'s lobes, `ns` the shading normal on `wo`'s side.
+/// [`bsdf_sample`] of a coated material (`ns` the shading normal on `wo`'s side): the coat
+/// with [`coat::probability`], else the lobes beneath, whose delta samples the coat's weight
+/// and probability scale (their other samples' f and density are the whole material's
+/// already).
+#[inline]
+fn coated_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
+    let p = coat::probability(m.clearcoat, ns.dot(wo));
+    if u.x < p {
+        let v = Vec2::new((u.x / p).min(1.0 - f32::EPSILON), u.y);
+        let Some(local) = coat::sample(m.clearcoat_alpha, to_local(ns, wo), v) else {
+            return BsdfSample::default();
+        };
+        let wi = from_local(ns, local);
+        if m.has_smooth_coat() {
+            // The mirror: its weight w over its probability (the viewer's cosine is wo's and
+            // wi's alike).
+            let (w, cos_i) = (coat::layer_weight(m.clearcoat, ns.dot(wo)), ns.dot(wi));
+            if !(cos_i > 0.0) {
+                return BsdfSample::default();
+            }
+            return BsdfSample { wi, f: Vec3::splat(w / cos_i), pdf: p, delta: true };
+        }
+        let pdf = bsdf_pdf(m, n, wo, wi);
+        if !(pdf > 0.0) {
+            return BsdfSample::default();
+        }
+        return BsdfSample { wi, f: bsdf_eval(m, n, wo, wi, radiance), pdf, delta: false };
+    }
+    let v = Vec2::new(((u.x - p) / (1.0 - p)).min(1.0 - f32::EPSILON), u.y);
+    let mut bs = lobe_sample(m, n, ns, wo, v, radiance);
+    if bs.delta {
+        let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(ns, wo, bs.wi, radiance));
+        bs.f *= 1.0 - w;
+        bs.pdf *= 1.0 - p;
+    }
+    bs
+}
+
+/// [`bsdf_sample`]'s lobes beneath the coat, `ns` the shading normal on `wo`'s side.
 #[inline]
 fn lobe_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
     if m.transmission > 0.0 {

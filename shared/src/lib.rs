@@ -13,7 +13,7 @@
 //! - [`tree`]: the speculative mutation tree (the paper's §4, Eq. 2 and Eq. 3 generalised);
 //! - [`reject_chain`]: the reject chain of Byrd et al. (the paper's §3.3);
 //! - [`layout`]: SoA indexing and the packed `float4` contribution;
-//! - [`camera`], [`bsdf`] (with [`microfacet`]'s GGX), [`light`], [`punctual`], [`environment`] (both from outside the scene: [`distant`]),
+//! - [`camera`], [`bsdf`] (with [`microfacet`]'s GGX and [`clearcoat`]'s layer), [`light`], [`punctual`], [`environment`] (both from outside the scene: [`distant`]),
 //!   [`triangle`]: the scene primitives, and
 //!   [`color`]'s luminance;
 //! - [`texture`]: texture lookups from one texel buffer; [`surface`]: the material and the
@@ -35,6 +35,7 @@
 pub mod acceptance;
 pub mod bsdf;
 pub mod camera;
+pub mod clearcoat;
 pub mod color;
 pub mod cutout;
 pub mod cwbvh;

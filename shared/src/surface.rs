@@ -57,6 +57,30 @@ pub struct MaterialTextures {
     pub alpha: f32,
     /// `normalTexture`'s scale: the factor of the texel's x and y.
     pub normal_scale: f32,
+    /// `KHR_materials_clearcoat`'s clearcoatTexture (linear; R the coat's intensity).
+    pub clearcoat: TextureRef,
+    /// `KHR_materials_clearcoat`'s clearcoatRoughnessTexture (linear; G the coat's roughness).
+    pub clearcoat_roughness: TextureRef,
+    /// clearcoatFactor, which the texture's R multiplies.
+    pub clearcoat_factor: f32,
+    /// clearcoatRoughnessFactor, which the texture's G multiplies (the material's
+    /// `clearcoat_alpha` is the product's square).
+    pub clearcoat_roughness_factor: f32,
+}
+
+impl MaterialTextures {
+    /// Every texture slot, in a fixed order (for the host's checks; the shading reads them by
+    /// name).
+    pub fn slots(&self) -> [TextureRef; 6] {
+        [
+            self.base_color,
+            self.metallic_roughness,
+            self.emissive,
+            self.normal,
+            self.clearcoat,
+            self.clearcoat_roughness,
+        ]
+    }
 }
 
 /// A triangle's texture coordinates (uploaded as it is, one per triangle in the triangles'
@@ -186,24 +210,34 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
     let mut out = m;
     // One lookup in a loop over the slots (the device module keeps one copy of it).
     let mut slot = 0;
-    while slot < 3 {
+    while slot < 5 {
         let r = if slot == 0 {
             t.base_color
         } else if slot == 1 {
             t.metallic_roughness
-        } else {
+        } else if slot == 2 {
             t.emissive
+        } else if slot == 3 {
+            t.clearcoat
+        } else {
+            t.clearcoat_roughness
         };
         if r.is_some() {
-            let c = lookup(scene, r, uv0, uv1, slot != 1);
+            // Base colour and emission are sRGB, the others linear.
+            let c = lookup(scene, r, uv0, uv1, slot == 0 || slot == 2);
             if slot == 0 {
                 out.albedo = (Vec3::from_array(m.albedo) * c.truncate()).to_array();
             } else if slot == 1 {
                 let roughness = t.roughness * c.y;
                 out.alpha = roughness * roughness;
                 out = out.with_metallic(t.metallic * c.z, t.transmission);
-            } else {
+            } else if slot == 2 {
                 out.emission = (Vec3::from_array(m.emission) * c.truncate()).to_array();
+            } else if slot == 3 {
+                out.clearcoat = t.clearcoat_factor * c.x;
+            } else {
+                let roughness = t.clearcoat_roughness_factor * c.y;
+                out.clearcoat_alpha = roughness * roughness;
             }
         }
         slot += 1;

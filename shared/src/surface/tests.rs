@@ -104,6 +104,10 @@ fn fixture() -> Fixture {
                 alpha: 1.0,
                 normal: TextureRef::NONE,
                 normal_scale: 1.0,
+                clearcoat: TextureRef::NONE,
+                clearcoat_roughness: TextureRef::NONE,
+                clearcoat_factor: 0.0,
+                clearcoat_roughness_factor: 0.0,
             },
         ],
         textures: vec![
@@ -191,6 +195,27 @@ fn textures_multiply_their_factors_at_the_points_coordinates() {
     // Light sampling's barycentric lookup agrees with the positional one.
     let b = Vec2::new(1.0 - 0.7 - 0.1, 0.7);
     assert_eq!(material_at_barycentrics(&scene, 0, b).albedo, m.albedo);
+}
+
+/// `KHR_materials_clearcoat`'s textures: the intensity is the factor times the clearcoat
+/// texture's R, the roughness the factor times the roughness texture's G, both read linear.
+#[test]
+fn clearcoat_textures_multiply_their_factors() {
+    let mut f = fixture();
+    let at = |texture: u32| TextureRef { texture, tex_coord: 0, transform: crate::texture::IDENTITY };
+    // The base colour's 2 × 2 texture as the intensity (R: 255 at texel (0, 0), 0 at (1, 0)),
+    // the metallic-roughness texel (G 128) as the roughness.
+    let t = &mut f.material_textures[1];
+    (t.clearcoat, t.clearcoat_roughness, t.clearcoat_factor, t.clearcoat_roughness_factor) =
+        (at(0), at(1), 0.8, 0.5);
+    let scene = f.scene();
+    let red = material_at(&scene, 0, Vec3::new(0.1, 0.1, 0.0));
+    let green = material_at(&scene, 0, Vec3::new(0.7, 0.1, 0.0));
+    assert_eq!((red.clearcoat, green.clearcoat), (0.8, 0.0));
+    let grey = material_at(&scene, 0, Vec3::new(0.2, 0.6, 0.0));
+    assert!((grey.clearcoat - 0.8 * 128.0 / 255.0).abs() < 1e-6, "linear, not sRGB: {}", grey.clearcoat);
+    let roughness = 0.5 * 128.0 / 255.0;
+    assert!((red.clearcoat_alpha - roughness * roughness).abs() < 1e-7, "{}", red.clearcoat_alpha);
 }
 
 #[test]
