@@ -446,6 +446,16 @@ fn brdf_passes_agree_on_device_and_cpu() {
     }
 }
 
+/// Under glTF's clear coat (`coated_scene` under its point lamp: smooth and rough coats over
+/// every kind of base): the coat's lobe choice, its mirror, its weight by the viewer's side in
+/// both subpaths, and the path estimator.
+#[test]
+fn clearcoat_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("clearcoat_passes_agree_on_device_and_cpu") {
+        difftest_both_estimators(gpu, &common::scenes::coated_scene(true));
+    }
+}
+
 /// On textures (`textured_scene`: every slot, NEAREST and bilinear, wraps, a transform, an
 /// emissive texture on the lamp): the texel store and its lookups at every vertex.
 #[test]

@@ -256,6 +256,45 @@ pub fn brdf_scene(point: bool) -> SceneData {
     SceneData::from_slice(b.to_json().as_bytes(), "brdf scene").expect("brdf scene")
 }
 
+/// glTF's clear coat (`KHR_materials_clearcoat`) over each kind of base, on a Lambert floor
+/// before a wall: a smooth coat over a red plastic ball (the glTF BRDF), a rough coat (0.3) over
+/// a white Lambert block, a half-strength smooth coat over rough gold, and a rough coat (0.2)
+/// over a thin glass pane, and a rough coat (0.5) over a black tile; lit by an area lamp, or with `point` by a point lamp (whose light
+/// off the smooth coats no path tracer renders).
+#[allow(dead_code)]
+pub fn coated_scene(point: bool) -> SceneData {
+    let mut b = GltfBuilder::new();
+    floor_and_wall(&mut b, 2.0);
+    let v = Vec3::new;
+    let paint = b.pbr("red paint", [0.7, 0.1, 0.08], 0.0, 0.5);
+    b.clearcoat(paint, 1.0, 0.0);
+    b.sphere(paint, v(-0.6, 0.4, -0.6), 0.4, 10);
+    let white = b.material("coated white", [0.8; 3], [0.0; 3], 1.0, None);
+    b.clearcoat(white, 1.0, 0.3);
+    b.cuboid(white, v(0.5, 0.25, -0.3), v(0.25, 0.25, 0.25), 0.5);
+    let gold = b.pbr("coated gold", [1.0, 0.78, 0.34], 1.0, 0.4);
+    b.clearcoat(gold, 0.5, 0.0);
+    b.cuboid(gold, v(-0.9, 0.2, 0.3), v(0.2, 0.2, 0.2), -0.3);
+    let pane = b.glass("coated pane", [0.9, 0.95, 1.0], 1.5, false);
+    b.clearcoat(pane, 1.0, 0.2);
+    b.cuboid(pane, v(0.2, 0.5, -1.5), v(0.5, 0.45, 0.03), 0.2);
+    // A black tile under a rough coat, standing before the camera and lit from above at
+    // grazing angles: the coat alone reflects, its weight 4 % seen from the camera and ~20 %
+    // seen from the lamp (a light subpath's weight taken at the wrong end shows here).
+    let black = b.material("coated black", [0.0; 3], [0.0; 3], 1.0, None);
+    b.clearcoat(black, 1.0, 0.5);
+    b.cuboid(black, v(0.95, 0.6, -1.0), v(0.3, 0.3, 0.02), -0.3);
+    if point {
+        b.point_light(v(0.4, 2.0, 0.2), [1.0; 3], 2000.0);
+    } else {
+        let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 8.0, None);
+        let q = [v(-0.4, 2.0, -0.6), v(0.4, 2.0, -0.6), v(0.4, 2.0, 0.2), v(-0.4, 2.0, 0.2)];
+        b.quad(lamp, smlt::scenes::facing(q, -Vec3::Y));
+    }
+    b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.35, -0.5), Vec3::Y, 50f32.to_radians());
+    SceneData::from_slice(b.to_json().as_bytes(), "coated scene").expect("coated scene")
+}
+
 /// Every texture slot glTF has, each with a different sampler: a checker floor (base colour,
 /// NEAREST) whose tiles lean four ways (normalTexture, NEAREST), a wall of colour bands (base colour, bilinear, MIRRORED_REPEAT, through a
 /// `KHR_texture_transform`), a smooth ball whose metallic-roughness texture stripes it into rough

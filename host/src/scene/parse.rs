@@ -61,6 +61,9 @@ pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, Sc
     Ok(Parsed { doc, buffers, placeholders, warnings })
 }
 
+/// Extensions that smlt reads from the document's JSON, which the gltf crate does not know.
+const READ_FROM_JSON: [&str; 1] = ["KHR_materials_clearcoat"];
+
 /// What the gltf crate's types cannot hold but the spec allows, made what they can (see the
 /// module doc).
 fn normalise(value: &mut Value, warnings: &mut Vec<String>) {
@@ -79,6 +82,10 @@ fn normalise(value: &mut Value, warnings: &mut Vec<String>) {
         for scene in scenes.iter_mut().filter_map(Value::as_object_mut) {
             scene.entry("nodes").or_insert_with(|| Value::Array(Vec::new()));
         }
+    }
+    if let Some(required) = value.get_mut("extensionsRequired").and_then(Value::as_array_mut) {
+        // smlt reads these from the JSON itself; the gltf crate's check would refuse them.
+        required.retain(|e| !e.as_str().is_some_and(|e| READ_FROM_JSON.contains(&e)));
     }
     if let Some(object) = value.as_object_mut() {
         if let Some(animations) = object.remove("animations") {

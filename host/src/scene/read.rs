@@ -277,16 +277,13 @@ fn read_material(
         alpha_cutoff: 0.5,
         alpha: base[3],
         normal_scale,
+        // The clear coat's, from `read_clearcoat` below.
+        ..MaterialTextures::default()
     };
     let strength = m.emissive_strength().unwrap_or(1.0);
     let e = m.emissive_factor();
     let textures =
         read_alpha(m, textures, e[0].max(e[1]).max(e[2]) * strength > 0.0, &label, &at, warnings, name)?;
-    let textured = textures.base_color.is_some()
-        || textures.metallic_roughness.is_some()
-        || textures.emissive.is_some()
-        || textures.normal.is_some()
-        || textures.alpha_mode != ALPHA_OPAQUE;
     let mut phong = 0.0f32;
     if let Some(raw) = m.extras() {
         let value: serde_json::Value =
@@ -304,6 +301,20 @@ fn read_material(
         }
     }
     let glass = read_glass(m, &label, warnings, name)?;
+    let coat = read_clearcoat(m, store, source, (&label, &at), warnings)?;
+    if coat.factor > 0.0 && e[0].max(e[1]).max(e[2]) * strength > 0.0 {
+        warnings.push(format!(
+            "{label}: its emission is not darkened by its clear coat (the extension darkens it)"
+        ));
+    }
+    let textures = MaterialTextures {
+        clearcoat: coat.texture,
+        clearcoat_roughness: coat.roughness_texture,
+        clearcoat_factor: coat.factor,
+        clearcoat_roughness_factor: coat.roughness,
+        ..textures
+    };
+    let textured = textures.slots().iter().any(TextureRef::is_some) || textures.alpha_mode != ALPHA_OPAQUE;
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}.{what}") };
     let unit = |x: f32| (0.0..=1.0).contains(&x);
     let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
@@ -344,10 +355,65 @@ fn read_material(
         alpha: roughness * roughness,
         specular,
         specular_color,
+        clearcoat: coat.factor,
+        clearcoat_alpha: coat.roughness * coat.roughness,
         ..glass
     }
     .with_metallic(metallic, glass.transmission);
     Ok((material, textured.then_some(textures)))
+}
+
+/// A material's `KHR_materials_clearcoat` (its numbers checked by `super::validate`).
+struct Clearcoat {
+    /// clearcoatFactor (0: no coat).
+    factor: f32,
+    /// clearcoatRoughnessFactor.
+    roughness: f32,
+    texture: TextureRef,
+    roughness_texture: TextureRef,
+}
+
+/// The clear coat of `m` (`shared::clearcoat`): its factors and the textures they multiply (none
+/// where the factor is 0: the layer is off). Its normal texture is not read: the coat takes the
+/// base's shading normal, which the warnings say where it differs from the spec's.
+fn read_clearcoat(
+    m: &gltf::Material,
+    store: &mut TextureStore,
+    source: &Source,
+    (label, at): (&str, &str),
+    warnings: &mut Vec<String>,
+) -> Result<Clearcoat, SceneError> {
+    let mut coat = Clearcoat {
+        factor: 0.0,
+        roughness: 0.0,
+        texture: TextureRef::NONE,
+        roughness_texture: TextureRef::NONE,
+    };
+    let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
+        return Ok(coat);
+    };
+    let factor = |key: &str| ext.get(key).and_then(serde_json::Value::as_f64).unwrap_or(0.0) as f32;
+    (coat.factor, coat.roughness) = (factor("clearcoatFactor"), factor("clearcoatRoughnessFactor"));
+    if coat.factor == 0.0 {
+        return Ok(coat);
+    }
+    let at = format!("{at}.extensions.KHR_materials_clearcoat");
+    let mut slot = |key: &str, warnings: &mut Vec<String>| match ext.get(key) {
+        Some(info) => store.json_reference(source, info, &format!("{at}.{key}"), warnings),
+        None => Ok(TextureRef::NONE),
+    };
+    coat.texture = slot("clearcoatTexture", warnings)?;
+    coat.roughness_texture = slot("clearcoatRoughnessTexture", warnings)?;
+    if ext.get("clearcoatNormalTexture").is_some() {
+        warnings.push(format!(
+            "{label}: clearcoatNormalTexture is ignored (the coat takes the base's shading normal)"
+        ));
+    } else if m.normal_texture().is_some() {
+        warnings.push(format!(
+            "{label}: its clear coat follows its normalTexture (the extension keeps the coat unbent)"
+        ));
+    }
+    Ok(coat)
 }
 
 /// The cut-out of a material (`shared::cutout`): its `alphaMode` and `alphaCutoff` into
@@ -472,6 +538,7 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
             "KHR_materials_ior",
             "KHR_materials_volume",
             "KHR_materials_specular",
+            "KHR_materials_clearcoat",
             "KHR_texture_transform",
         ]
         .contains(&ext)
@@ -799,9 +866,7 @@ where
     let t = &soup.material_textures[textures as usize];
     let mut sets = [Vec::new(), Vec::new()];
     for (set, coords) in sets.iter_mut().enumerate() {
-        let uses = [t.base_color, t.metallic_roughness, t.emissive, t.normal]
-            .iter()
-            .any(|r| r.is_some() && r.tex_coord == set as u32);
+        let uses = t.slots().iter().any(|r| r.is_some() && r.tex_coord == set as u32);
         if !uses {
             continue;
         }

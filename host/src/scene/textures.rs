@@ -120,6 +120,36 @@ impl TextureStore {
         Ok((r, scale))
     }
 
+    /// [`TextureStore::reference`] of a textureInfo that the gltf crate does not read (an
+    /// extension's, as JSON: `index`, `texCoord` and its `KHR_texture_transform`; the index
+    /// checked by `super::validate`).
+    pub fn json_reference(
+        &mut self,
+        source: &Source,
+        info: &serde_json::Value,
+        slot: &str,
+        warnings: &mut Vec<String>,
+    ) -> Result<TextureRef, SceneError> {
+        let malformed = |what: String| SceneError::Malformed { path: source.name.into(), what };
+        let index = info.get("index").and_then(serde_json::Value::as_u64);
+        let index = index.ok_or_else(|| malformed(format!("{slot}: no texture index")))?;
+        let tex_coord = match info.get("texCoord") {
+            None => 0,
+            Some(v) => {
+                v.as_u64().ok_or_else(|| malformed(format!("{slot}.texCoord: {v} is not an index")))?
+            }
+        };
+        let transform = match info.get("extensions").and_then(|e| e.get("KHR_texture_transform")) {
+            Some(value) => Some(
+                serde_json::from_value::<Transform>(value.clone())
+                    .map_err(|e| malformed(format!("{slot}.extensions.KHR_texture_transform: {e}")))?,
+            ),
+            None => None,
+        };
+        let tex_coord = u32::try_from(tex_coord).unwrap_or(u32::MAX);
+        self.reference_parts(source, index as usize, tex_coord, transform, slot, warnings)
+    }
+
     /// The reference to glTF texture `texture` through `TEXCOORD_<tex_coord>` and `transform`
     /// (`KHR_texture_transform`, whose texCoord overrides `tex_coord`).
     fn reference_parts(

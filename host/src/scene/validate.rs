@@ -208,6 +208,27 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
                 }
             }
         }
+        if let Some(c) = material.get("extensions").and_then(|e| e.get("KHR_materials_clearcoat")) {
+            let at = format!("{at}.extensions.KHR_materials_clearcoat");
+            for key in ["clearcoatFactor", "clearcoatRoughnessFactor"] {
+                if let Some(x) = number(c, key, &at)? {
+                    if !(0.0..=1.0).contains(&x) {
+                        return Err(format!("{at}.{key}: {} is outside [0, 1]", x as f32));
+                    }
+                }
+            }
+            // The core's texture references the gltf crate checks; an extension's it does not.
+            for key in ["clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"] {
+                if let Some(info) = c.get(key) {
+                    let at = format!("{at}.{key}");
+                    let index = uint(info, "index", &at)?.ok_or(format!("{at}: no index"))?;
+                    if index >= list("textures").len() as u64 {
+                        return Err(format!("{at}.index: {index} names no texture"));
+                    }
+                    uint(info, "texCoord", &at)?;
+                }
+            }
+        }
         if let Some(s) = material.get("extensions").and_then(|e| e.get("KHR_materials_emissive_strength")) {
             let at = format!("{at}.extensions.KHR_materials_emissive_strength");
             let strength = number(s, "emissiveStrength", &at)?.unwrap_or(1.0);

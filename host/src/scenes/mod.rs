@@ -334,6 +334,17 @@ impl GltfBuilder {
         self.materials[material]["pbrMetallicRoughness"]["roughnessFactor"] = json!(roughness);
     }
 
+    /// Coats `material` with `KHR_materials_clearcoat` of intensity `factor` and roughness
+    /// `roughness` (clearcoatFactor, clearcoatRoughnessFactor).
+    pub fn clearcoat(&mut self, material: usize, factor: f32, roughness: f32) {
+        let m = &mut self.materials[material];
+        if !m["extensions"].is_object() {
+            m["extensions"] = json!({});
+        }
+        m["extensions"]["KHR_materials_clearcoat"] =
+            json!({"clearcoatFactor": factor, "clearcoatRoughnessFactor": roughness});
+    }
+
     /// Makes the solid glass `material` ([`GltfBuilder::glass`]) absorb: the colour white
     /// light takes on after `distance` (m) inside it (`attenuationColor`, `attenuationDistance`).
     pub fn attenuation(&mut self, material: usize, colour: [f32; 3], distance: f32) {
