@@ -24,6 +24,7 @@ fn the_committed_scenes_are_what_the_generators_write() {
         ("lamps", include_str!("../scenes/lamps.gltf")),
         ("caustic", include_str!("../scenes/caustic.gltf")),
         ("materials", include_str!("../scenes/materials.gltf")),
+        ("coated", include_str!("../scenes/coated.gltf")),
         ("textured", include_str!("../scenes/textured.gltf")),
         ("smooth", include_str!("../scenes/smooth.gltf")),
         ("cutout", include_str!("../scenes/cutout.gltf")),
@@ -63,6 +64,7 @@ fn every_view_is_lit() {
         ("lamps", 1),
         ("caustic", 1),
         ("materials", 1),
+        ("coated", 1),
     ] {
         let mut scene = load(name, 1);
         scene.select_view(view).unwrap();

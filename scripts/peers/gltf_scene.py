@@ -2,7 +2,8 @@
 transforms, baseColorFactor, emissiveFactor x KHR_materials_emissive_strength, the Phong
 exponent in the material's extras, perspective cameras in depth-first scene order,
 KHR_lights_punctual lights in smlt's units: candela / 683 W/sr, lux / 683 W/m², glass from
-KHR_materials_transmission, _ior and _volume, glTF's metallic-roughness BRDF with KHR_materials_specular,
+KHR_materials_transmission, _ior and _volume, glTF's metallic-roughness BRDF with KHR_materials_specular
+(and KHR_materials_clearcoat's factors),
 textures: baseColorTexture, emissiveTexture and metallicRoughnessTexture with their samplers, texCoord
 and KHR_texture_transform, the meshes' TEXCOORD_0 and TEXCOORD_1, and their NORMALs, the smooth shading
 normals) into plain numpy arrays, for the peers' converters.
@@ -86,6 +87,8 @@ class Material:
     alpha_mode: str = "OPAQUE"  # glTF's alphaMode: MASK cuts where the opacity < alpha_cutoff; BLEND covers by it
     alpha_cutoff: float = 0.5
     opacity: float = 1.0  # baseColorFactor's alpha (x the base colour texture's alpha)
+    clearcoat: float = 0.0  # KHR_materials_clearcoat's clearcoatFactor (0: no coat)
+    clearcoat_roughness: float = 0.0  # its clearcoatRoughnessFactor
 
     @property
     def textures(self):
@@ -297,7 +300,9 @@ def load(path, rotation="example"):
                                   texture(pbr.get("baseColorTexture")), texture(m.get("emissiveTexture")),
                                   texture(pbr.get("metallicRoughnessTexture")), metallic, roughness,
                                   transmission, m.get("alphaMode", "OPAQUE"), float(m.get("alphaCutoff", 0.5)),
-                                  float(pbr.get("baseColorFactor", [1, 1, 1, 1])[3])))
+                                  float(pbr.get("baseColorFactor", [1, 1, 1, 1])[3]),
+                                  float(ext.get("KHR_materials_clearcoat", {}).get("clearcoatFactor", 0.0)),
+                                  float(ext.get("KHR_materials_clearcoat", {}).get("clearcoatRoughnessFactor", 0.0))))
     scene = Scene(materials)
     shading = {}  # material index -> per primitive: ((k, 3, 3) normals or None (flat), its triangles)
     root = doc["scenes"][doc.get("scene", 0)]

@@ -24,7 +24,8 @@ of the same radiometric values; glass (KHR_materials_transmission) -> `dielectri
 KHR_materials_volume, with a `homogeneous` purely absorbing interior medium and `volpath` where
 it attenuates) or `thindielectric` (thin-walled: Mitsuba sums the slab's inter-reflections,
 reflecting 2R/(1+R) where glTF's single interface reflects R), tinted by baseColor, blended
-with the BRDF rest by `blendbsdf` where transmissionFactor < 1; glTF's metallic-roughness BRDF
+with the BRDF rest by `blendbsdf` where transmissionFactor < 1; KHR_materials_clearcoat -> `smlt_coat`
+over the whole BSDF (`mitsuba_coat.py`, written from the extension); glTF's metallic-roughness BRDF
 otherwise -> `smlt_gltf`, a Python BSDF plugin written from the spec (`mitsuba_gltf.py`: Mitsuba
 has no glTF BRDF; `principled` is Disney's, see check_materials.sh); `--environment` as smlt's
 -> `envmap` or `constant` (`environment_dict`); textures (baseColorTexture on Lambert, emissiveTexture
@@ -267,6 +268,10 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
                 medium = {"type": "homogeneous", "albedo": 0.0, "scale": top,
                           "sigma_t": {"type": "rgb", "value": [c / top for c in mat.attenuation]}}
                 d["integrator"]["type"] = "volpath"
+        if mat.clearcoat > 0:
+            # KHR_materials_clearcoat over everything: mitsuba_coat.py's plugin, registered in main()
+            bsdf = {"type": "smlt_coat", "clearcoat": mat.clearcoat, "alpha": mat.clearcoat_roughness ** 2,
+                    "base": bsdf}
         shape = {"type": "ply", "filename": path, "face_normals": normals is None, "bsdf": bsdf}
         if medium is not None:
             shape["interior"] = medium
@@ -348,6 +353,9 @@ def main():
     import mitsuba_gltf
 
     mitsuba_gltf.register()
+    import mitsuba_coat
+
+    mitsuba_coat.register()
     scene = gltf_scene.load(a.scene, rotation=a.texture_rotation)
     label = a.label or os.path.splitext(os.path.basename(a.scene))[0]
     reference = read_exr(mi, a.reference)

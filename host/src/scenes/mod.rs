@@ -3,6 +3,7 @@
 
 pub mod atrium;
 pub mod caustic;
+pub mod coated;
 pub mod cornell;
 pub mod cutout;
 pub mod lamps;
@@ -54,7 +55,7 @@ pub fn sun_below_sky(far: Vec3, half: f32, target: Vec3, y: f32) -> [Vec3; 4] {
 }
 
 /// The names of the generated scenes.
-pub const GENERATED: [&str; 11] = [
+pub const GENERATED: [&str; 12] = [
     "cornell",
     "atrium",
     "nave",
@@ -63,6 +64,7 @@ pub const GENERATED: [&str; 11] = [
     "lamps",
     "caustic",
     "materials",
+    "coated",
     "textured",
     "smooth",
     "cutout",
@@ -130,6 +132,7 @@ pub fn generate(name: &str, tessellation: u32) -> Option<String> {
         "lamps" => Some(lamps::lamps(tessellation)),
         "caustic" => Some(caustic::caustic(tessellation)),
         "materials" => Some(materials::materials(tessellation)),
+        "coated" => Some(coated::coated(tessellation)),
         "textured" => Some(textured::textured(tessellation)),
         "smooth" => Some(smooth::smooth(tessellation)),
         "cutout" => Some(cutout::cutout(tessellation)),

@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# Mitsuba 3 against smlt on glTF's clear coat (KHR_materials_clearcoat): the means and RMSEs that
+# docs/results.md quotes.
+#  1. A plate of each kind under a sun, filling the view: a white Lambert under a rough coat
+#     (0.3), red paint (the glTF BRDF, roughness 0.5) under a smooth coat, a black base under a
+#     rough coat (0.5: the coat alone reflects) and rough gold under a half-strength glossy coat
+#     (0.2). smlt's reference against Mitsuba with `smlt_coat` (mitsuba_coat.py, the extension
+#     written independently, over Mitsuba's `diffuse` or mitsuba_gltf.py's `smlt_gltf`) and
+#     against each plate's exact image (one bounce: the coated BSDF at each pixel's directions ×
+#     the sun's irradiance, evaluated by Mitsuba).
+#  2. The `coated` scene (every kind of base and coat, smooth coats' mirrors included, under two
+#     area lamps): smlt's reference against Mitsuba with the plugins.
+#   scripts/peers/check_clearcoat.sh [OUT]   (default: /tmp/check-clearcoat)
+# Needs smlt built (cargo build --release), the peers' Python packages (requirements.txt) and
+# DRJIT_LIBLLVM_PATH (a libLLVM >= 16; the plugins need Mitsuba's llvm_ad_rgb variant).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+out="${1:-/tmp/check-clearcoat}"
+smlt="${CARGO_TARGET_DIR:-$root/target}/release/smlt"
+size=(--width 128 --height 96 --max-depth 12)
+: "${DRJIT_LIBLLVM_PATH:?set DRJIT_LIBLLVM_PATH to a libLLVM >= 16 (scripts/peers/README.md)}"
+export DRJIT_LIBLLVM_PATH
+mkdir -p "$out"
+cd "$out"
+"$smlt" scene coated --out coated.gltf >/dev/null
+python3 - <<'PY'
+import base64, json, math, struct
+# A plate 16 m wide, seen from (0, 1.2, 1.2) looking at the origin (yfov 0.5: the plate fills the
+# view), lit by a sun of 683 lux (1 W/m²) from (0.4, 1, 0.3) - as check_materials.sh's plates.
+p = [(-8, 0, 8), (8, 0, 8), (8, 0, -8), (-8, 0, -8)]
+data = b"".join(struct.pack("<3f", *v) for v in p) + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+to_sun = [0.4, 1.0, 0.3]
+n = math.sqrt(sum(c * c for c in to_sun))
+d = [-c / n for c in to_sun]
+axis = [d[1], -d[0], 0.0]
+s = math.sqrt(sum(c * c for c in axis))
+angle = math.acos(-d[2])
+q = [c / s * math.sin(angle / 2) for c in axis] + [math.cos(angle / 2)]
+lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
+plates = {
+    "lacquer": ({"baseColorFactor": [0.8, 0.8, 0.78, 1], "metallicFactor": 0.0}, lambert, (1.0, 0.3)),
+    "paint": ({"baseColorFactor": [0.6, 0.05, 0.04, 1], "metallicFactor": 0.0, "roughnessFactor": 0.5}, {}, (1.0, 0.0)),
+    "piano": ({"baseColorFactor": [0.0, 0.0, 0.0, 1], "metallicFactor": 0.0}, lambert, (1.0, 0.5)),
+    "gold": ({"baseColorFactor": [1.0, 0.78, 0.34, 1], "metallicFactor": 1.0, "roughnessFactor": 0.4}, {}, (0.5, 0.2)),
+}
+for name, (pbr, ext, (coat, roughness)) in plates.items():
+    ext = dict(ext, KHR_materials_clearcoat={"clearcoatFactor": coat, "clearcoatRoughnessFactor": roughness})
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+           "extensionsUsed": ["KHR_lights_punctual"] + sorted(ext), "extensionsRequired": ["KHR_lights_punctual"],
+           "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 683.0}]}},
+           "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+           "bufferViews": [{"buffer": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-8, 0, -8], "max": [8, 0, 8]},
+                         {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+           "materials": [{"name": name, "pbrMetallicRoughness": pbr, "extensions": ext}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+           "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}],
+           "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 1.2, 1.2], "rotation": [-0.38268343, 0, 0, 0.92387953]},
+                     {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": q}]}
+    json.dump(doc, open(f"plate_{name}.gltf", "w"))
+PY
+for name in lacquer paint piano gold; do
+    "$smlt" reference "plate_$name.gltf" --device cpu --spp 1024 "${size[@]}" --out "ref_plate_$name.exr" | { grep -E "noise" || true; }
+    python3 "$root/scripts/peers/mitsuba_peer.py" "plate_$name.gltf" "${size[@]}" --variant llvm_ad_rgb \
+        --reference "ref_plate_$name.exr" --converged 1024 --label "plate_$name" | tail -1
+done
+PYTHONPATH="$root/scripts/peers" python3 - "${size[@]}" <<'PY'
+# Each plate's exact image (one bounce, no shadow: the plate alone under the sun) through the
+# plugins, at the pixels' centres; against smlt's reference.
+import sys, tempfile
+import mitsuba as mi
+import drjit as dr
+import numpy as np
+mi.set_variant("llvm_ad_rgb")
+import gltf_scene, mitsuba_coat, mitsuba_gltf, mitsuba_peer
+mitsuba_gltf.register()
+mitsuba_coat.register()
+w, h, depth = int(sys.argv[2]), int(sys.argv[4]), int(sys.argv[6])
+def exact(scene):
+    sun = scene.lights[0]
+    with tempfile.TemporaryDirectory() as folder:
+        mi_scene = mi.load_dict(mitsuba_peer.scene_dict(mi, scene, 1, w, h, depth, folder))
+    sensor = mi_scene.sensors()[0]
+    idx = dr.arange(mi.UInt32, w * h)
+    pos = mi.Point2f((mi.Float(idx % w) + 0.5) / w, (mi.Float(idx // w) + 0.5) / h)
+    ray, _ = sensor.sample_ray(0.0, 0.5, pos, mi.Point2f(0.5))
+    si = mi_scene.ray_intersect(ray)
+    to_sun = si.to_local(mi.Vector3f(*(-float(c) for c in sun.direction)))
+    value = np.array(si.bsdf().eval(mi.BSDFContext(), si, to_sun, si.is_valid()))
+    value = value if value.shape[0] == w * h else value.T
+    return (value * np.array(sun.intensity)).reshape(h, w, 3)
+print("plate: smlt mean | exact mean (smlt_coat over the base, one bounce) | difference | RMSE of smlt to exact"
+      " | the base alone's exact mean (what the coat changes)")
+for name in ["lacquer", "paint", "piano", "gold"]:
+    scene = gltf_scene.load(f"plate_{name}.gltf")
+    coated = exact(scene)
+    scene.materials[1].clearcoat = 0.0
+    bare = exact(scene)
+    ref = mitsuba_peer.read_exr(mi, f"ref_plate_{name}.exr")
+    m = lambda a: float(np.mean(a))  # noqa: E731
+    rmse = float(np.sqrt(np.mean((ref - coated) ** 2)))
+    print(f"{name}: {m(ref):.5f} | {m(coated):.5f} | {100 * (m(ref) / m(coated) - 1):+.2f} % | {rmse:.2e} | {m(bare):.5f}")
+PY
+"$smlt" reference coated.gltf --device cpu --spp 2048 "${size[@]}" --out ref_coated.exr | { grep -E "noise" || true; }
+python3 "$root/scripts/peers/mitsuba_peer.py" coated.gltf "${size[@]}" --variant llvm_ad_rgb \
+    --reference ref_coated.exr --converged 2048 --label coated | tail -1
