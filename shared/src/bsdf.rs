@@ -368,16 +368,32 @@ pub fn bsdf_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -
     if !(m.clearcoat > 0.0) {
         return base;
     }
-    let Some(ns) = shading_side(n, wo) else {
-        return Vec3::ZERO;
-    };
-    let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(ns, wo, wi, radiance));
-    let layer = if sides_agree(n, wo, wi) {
-        coat::eval(m.clearcoat_alpha, to_local(ns, wo), to_local(ns, wi))
-    } else {
-        0.0
-    };
-    base * (1.0 - w) + Vec3::splat(w * layer)
+    let f = n.facing(wo);
+    let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(f.coat, wo, wi, radiance));
+    base * (1.0 - w) + Vec3::splat(w * coat_eval(m, f, wo, wi, radiance))
+}
+
+/// The coat's layer `f_coat(wo, wi)` in its own frame (`f` the normals facing `wo`), as the
+/// callers' shading cosine takes it ([`coat::frame_correction`]); 0 unless both directions lie
+/// above the coat by its normal and the geometric one (the shading normal, which the base's
+/// normal texture bent, does not limit the coat).
+#[inline]
+fn coat_eval(m: &Material, f: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> f32 {
+    let nc = f.coat;
+    if !(above_coat(f, wo) && above_coat(f, wi)) {
+        return 0.0;
+    }
+    let layer = coat::eval(m.clearcoat_alpha, to_local(nc, wo), to_local(nc, wi));
+    if !(layer > 0.0) {
+        return 0.0;
+    }
+    layer * coat::frame_correction(nc, f.shading, if radiance { wi } else { wo })
+}
+
+/// Whether `w` lies above the coat: by its normal and the geometric one (`f` facing `wo`).
+#[inline]
+fn above_coat(f: Normals, w: Vec3) -> bool {
+    f.coat.dot(w) > 0.0 && f.geometric.dot(w) > 0.0
 }
 
 /// f(wo, wi) of the material's lobes without its clear coat ([`bsdf_eval`]).
@@ -443,12 +459,11 @@ pub fn bsdf_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
     if !(m.clearcoat > 0.0) {
         return base;
     }
-    let Some(ns) = shading_side(n, wo) else {
-        return 0.0;
-    };
-    let p = coat::probability(m.clearcoat, ns.dot(wo));
-    let layer = if sides_agree(n, wo, wi) {
-        coat::pdf(m.clearcoat_alpha, to_local(ns, wo), to_local(ns, wi))
+    let f = n.facing(wo);
+    let nc = f.coat;
+    let p = coat::probability(m.clearcoat, nc.dot(wo));
+    let layer = if above_coat(f, wo) && above_coat(f, wi) {
+        coat::pdf(m.clearcoat_alpha, to_local(nc, wo), to_local(nc, wi))
     } else {
         0.0
     };
@@ -613,61 +628,71 @@ fn dielectric_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radi
 }
 
 /// Samples `wi` for `wo` with `u` ∈ [0,1)²; `radiance` is the transport mode (see
-/// [`dielectric_sample`] and `crate::clearcoat`; the other lobes are reciprocal).
+/// [`dielectric_sample`] and `crate::clearcoat`; the other lobes are reciprocal). A coated
+/// material's coat is sampled with [`coat::probability`] ([`coat_sample`]), else the lobes
+/// beneath (none where `wo` lies below the shading normal's hemisphere), whose delta samples
+/// the coat's weight and probability scale (their other samples' f and density are the whole
+/// material's already).
 #[inline]
 pub fn bsdf_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
+    let coated = m.clearcoat > 0.0;
+    let nc = n.facing(wo).coat;
+    let p = if coated { coat::probability(m.clearcoat, nc.dot(wo)) } else { 0.0 };
+    if u.x < p {
+        return coat_sample(m, n, wo, Vec2::new((u.x / p).min(1.0 - f32::EPSILON), u.y), radiance, p);
+    }
     let Some(ns) = shading_side(n, wo) else {
         return BsdfSample::default();
     };
-    let bs = if m.clearcoat > 0.0 {
-        coated_sample(m, n, ns, wo, u, radiance)
-    } else {
-        lobe_sample(m, n, ns, wo, u, radiance)
-    };
-    // A delta lobe's direction where the normals disagree on its side fails (the others'
-    // densities are 0 there already).
-    if bs.delta && !sides_agree(n, wo, bs.wi) {
-        return BsdfSample::default();
+    let v = if coated { Vec2::new(((u.x - p) / (1.0 - p)).min(1.0 - f32::EPSILON), u.y) } else { u };
+    let mut bs = lobe_sample(m, n, ns, wo, v, radiance);
+    if bs.delta {
+        // A delta lobe's direction where the normals disagree on its side fails (the others'
+        // densities are 0 there already).
+        if !sides_agree(n, wo, bs.wi) {
+            return BsdfSample::default();
+        }
+        if coated {
+            let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(nc, wo, bs.wi, radiance));
+            bs.f *= 1.0 - w;
+            bs.pdf *= 1.0 - p;
+        }
     }
     bs
 }
 
-/// [`bsdf_sample`] of a coated material (`ns` the shading normal on `wo`'s side): the coat
-/// with [`coat::probability`], else the lobes beneath, whose delta samples the coat's weight
-/// and probability scale (their other samples' f and density are the whole material's
-/// already).
-#[inline]
-fn coated_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
-    let p = coat::probability(m.clearcoat, ns.dot(wo));
-    if u.x < p {
-        let v = Vec2::new((u.x / p).min(1.0 - f32::EPSILON), u.y);
-        let Some(local) = coat::sample(m.clearcoat_alpha, to_local(ns, wo), v) else {
-            return BsdfSample::default();
-        };
-        let wi = from_local(ns, local);
-        if m.has_smooth_coat() {
-            // The mirror: its weight w over its probability (the viewer's cosine is wo's and
-            // wi's alike).
-            let (w, cos_i) = (coat::layer_weight(m.clearcoat, ns.dot(wo)), ns.dot(wi));
-            if !(cos_i > 0.0) {
-                return BsdfSample::default();
-            }
-            return BsdfSample { wi, f: Vec3::splat(w / cos_i), pdf: p, delta: true };
-        }
-        let pdf = bsdf_pdf(m, n, wo, wi);
-        if !(pdf > 0.0) {
-            return BsdfSample::default();
-        }
-        return BsdfSample { wi, f: bsdf_eval(m, n, wo, wi, radiance), pdf, delta: false };
+/// The coat's sample for `wo` with `u` ∈ [0,1)², chosen with probability `p`: in its own frame
+/// (`crate::clearcoat`), its mirror a delta of weight w over `p`.
+// Calls on the device, not copies at every call site.
+#[cfg_attr(target_arch = "spirv", inline(never))]
+#[cfg_attr(not(target_arch = "spirv"), inline)]
+fn coat_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool, p: f32) -> BsdfSample {
+    let f = n.facing(wo);
+    let nc = f.coat;
+    let sampled = if above_coat(f, wo) { coat::sample(m.clearcoat_alpha, to_local(nc, wo), u) } else { None };
+    let Some(local) = sampled else {
+        return BsdfSample::default();
+    };
+    let wi = from_local(nc, local);
+    if !above_coat(f, wi) {
+        return BsdfSample::default();
     }
-    let v = Vec2::new(((u.x - p) / (1.0 - p)).min(1.0 - f32::EPSILON), u.y);
-    let mut bs = lobe_sample(m, n, ns, wo, v, radiance);
-    if bs.delta {
-        let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(ns, wo, bs.wi, radiance));
-        bs.f *= 1.0 - w;
-        bs.pdf *= 1.0 - p;
+    if m.has_smooth_coat() {
+        // The mirror: its weight w over its probability (the viewer's cosine is wo's and wi's
+        // alike), as the callers' shading cosine takes it.
+        let w = coat::layer_weight(m.clearcoat, nc.dot(wo));
+        let correction = coat::frame_correction(nc, f.shading, if radiance { wi } else { wo });
+        let cos_c = nc.dot(wi);
+        if !(correction > 0.0 && cos_c > 0.0) {
+            return BsdfSample::default();
+        }
+        return BsdfSample { wi, f: Vec3::splat(w * correction / cos_c), pdf: p, delta: true };
     }
-    bs
+    let pdf = bsdf_pdf(m, n, wo, wi);
+    if !(pdf > 0.0) {
+        return BsdfSample::default();
+    }
+    BsdfSample { wi, f: bsdf_eval(m, n, wo, wi, radiance), pdf, delta: false }
 }
 
 /// [`bsdf_sample`]'s lobes beneath the coat, `ns` the shading normal on `wo`'s side.

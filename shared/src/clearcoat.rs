@@ -16,13 +16,14 @@
 //!
 //! **Sampling** chooses the layer with [`probability`], its weight at `wo` (at most 0.9, so that
 //! the base is sampled at grazing angles too): the layer's mirror then has weight 1, and the
-//! base's samples keep the base's own weights. The layer's normal is the shading normal the
-//! base sees: `clearcoatNormalTexture` is not read (the loader warns), and where the base has a
-//! normal texture the coat follows it (the spec keeps the coat smooth there; the loader says so).
-//! Directions are local: z is that normal on `wo`'s side.
-#[cfg(target_arch = "spirv")]
-use spirv_std::num_traits::Float;
-
+//! base's samples keep the base's own weights.
+//!
+//! **The coat's normal** (`crate::normals::Normals::coat`) is the interpolated vertex normal,
+//! bent by clearcoatNormalTexture only: the base's normal texture leaves the coat smooth, as
+//! the extension says. Its layer is evaluated and sampled in its own frame (directions here
+//! are local: z is the coat's normal on `wo`'s side), while the callers multiply every lobe by
+//! the shading normal's cosine (`crate::normals::scattering_cosine`), so the layer's f carries
+//! [`frame_correction`]. The viewer's cosine is the coat normal's.
 use glam::{Vec2, Vec3};
 
 use crate::metallic_roughness::{f0_from_ior, schlick_weight};
@@ -54,6 +55,22 @@ pub fn viewer_cosine(n: Vec3, wo: Vec3, wi: Vec3, radiance: bool) -> f32 {
         n.dot(wo)
     } else {
         n.dot(wi)
+    }
+}
+
+/// The factor `|nc·l| / |ns·l|` that turns the shading normal `ns`'s cosine, which the
+/// callers multiply every lobe by, into the coat normal `nc`'s for the layer; `l` is the
+/// direction light comes from (`wi` in radiance transport, `wo` in importance transport, where
+/// the callers' cosine is Veach's adjoint `|ns·wo| |ng·wi| / |ng·wo|`, which becomes the
+/// adjoint about the coat's normal). 1 where the two normals are one; 0 where `l` lies in the
+/// shading normal's plane.
+#[inline]
+pub fn frame_correction(nc: Vec3, ns: Vec3, l: Vec3) -> f32 {
+    let cos_s = ns.dot(l).abs();
+    if cos_s > 0.0 {
+        nc.dot(l).abs() / cos_s
+    } else {
+        0.0
     }
 }
 

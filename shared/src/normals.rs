@@ -23,31 +23,42 @@ use spirv_std::num_traits::Float;
 
 use glam::{Vec2, Vec3};
 
-/// The geometric and shading normals at a surface point (unit; the shading one on the
-/// geometric one's side).
+/// The geometric and shading normals at a surface point, and the clear coat's (unit; the
+/// shading and coat ones on the geometric one's side).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Normals {
     /// The triangle's normal, by its winding.
     pub geometric: Vec3,
-    /// The interpolated vertex normal; the geometric one where the mesh has none.
+    /// The interpolated vertex normal, bent by the material's normal texture; the geometric
+    /// one where the mesh has none.
     pub shading: Vec3,
+    /// The clear coat's normal (`crate::clearcoat`): the interpolated vertex normal, bent by the
+    /// material's clearcoatNormalTexture only — `KHR_materials_clearcoat` keeps the coat unbent
+    /// by the base's normal texture. The shading one where the material has no normal texture.
+    pub coat: Vec3,
 }
 
 impl Normals {
-    /// A flat surface: the shading normal is the geometric one.
+    /// A flat surface: the shading and coat normals are the geometric one.
     #[inline]
     pub fn flat(n: Vec3) -> Self {
-        Self { geometric: n, shading: n }
+        Self { geometric: n, shading: n, coat: n }
     }
 
-    /// Both normals turned to the side of the surface (by the geometric normal) that `w` lies
+    /// A surface whose coat, if any, follows the shading normal (no normal texture).
+    #[inline]
+    pub fn shaded(geometric: Vec3, shading: Vec3) -> Self {
+        Self { geometric, shading, coat: shading }
+    }
+
+    /// The normals turned to the side of the surface (by the geometric normal) that `w` lies
     /// on.
     #[inline]
     pub fn facing(self, w: Vec3) -> Self {
         if self.geometric.dot(w) >= 0.0 {
             self
         } else {
-            Self { geometric: -self.geometric, shading: -self.shading }
+            Self { geometric: -self.geometric, shading: -self.shading, coat: -self.coat }
         }
     }
 }
@@ -134,7 +145,7 @@ mod tests {
     /// with the roles swapped).
     #[test]
     fn the_adjoint_makes_the_contribution_independent_of_the_tracing_direction() {
-        let n = Normals { geometric: Vec3::Z, shading: unit(0.4, -0.2, 1.0) };
+        let n = Normals::shaded(Vec3::Z, unit(0.4, -0.2, 1.0));
         let pairs = [
             (unit(0.3, 0.1, 0.9), unit(-0.5, 0.2, 0.4)),
             (unit(0.9, 0.0, 0.1), unit(-0.1, 0.7, 0.2)),
@@ -175,10 +186,10 @@ mod tests {
     }
 
     #[test]
-    fn facing_turns_both_normals_by_the_geometric_side() {
-        let n = Normals { geometric: Vec3::Z, shading: unit(0.5, 0.0, 1.0) };
+    fn facing_turns_the_normals_by_the_geometric_side() {
+        let n = Normals { geometric: Vec3::Z, shading: unit(0.5, 0.0, 1.0), coat: unit(0.0, 0.2, 1.0) };
         assert_eq!(n.facing(Vec3::new(0.0, 0.0, 1.0)), n);
         let back = n.facing(Vec3::new(0.9, 0.0, -0.1));
-        assert_eq!((back.geometric, back.shading), (-n.geometric, -n.shading));
+        assert_eq!((back.geometric, back.shading, back.coat), (-n.geometric, -n.shading, -n.coat));
     }
 }

@@ -66,12 +66,17 @@ pub struct MaterialTextures {
     /// clearcoatRoughnessFactor, which the texture's G multiplies (the material's
     /// `clearcoat_alpha` is the product's square).
     pub clearcoat_roughness_factor: f32,
+    /// `KHR_materials_clearcoat`'s clearcoatNormalTexture (linear; a tangent-space normal of the
+    /// coat alone, in the normal texture's tangent frame).
+    pub clearcoat_normal: TextureRef,
+    /// clearcoatNormalTexture's scale.
+    pub clearcoat_normal_scale: f32,
 }
 
 impl MaterialTextures {
     /// Every texture slot, in a fixed order (for the host's checks; the shading reads them by
     /// name).
-    pub fn slots(&self) -> [TextureRef; 6] {
+    pub fn slots(&self) -> [TextureRef; 7] {
         [
             self.base_color,
             self.metallic_roughness,
@@ -79,6 +84,7 @@ impl MaterialTextures {
             self.normal,
             self.clearcoat,
             self.clearcoat_roughness,
+            self.clearcoat_normal,
         ]
     }
 }
@@ -136,10 +142,11 @@ pub fn material_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Material {
     textured(scene, m, triangle, barycentrics(&tri, p))
 }
 
-/// The geometric and shading normals of triangle `triangle` at the point `p` on it: the flat
-/// triangle's normal as both where it has no vertex normals, and the shading normal bent by the
-/// material's normal texture where it has one (`crate::normal_map`: in the triangle's vertex
-/// tangents where it has them, else in its texture coordinates' own frame).
+/// The geometric, shading and coat normals of triangle `triangle` at the point `p` on it: the
+/// flat triangle's normal as all three where it has no vertex normals, the shading normal bent
+/// by the material's normal texture and the coat's by its clearcoatNormalTexture where it has
+/// them (`crate::normal_map`: in the triangle's vertex tangents where it has them, else in the
+/// texture coordinates' own frame — the normal texture's, else the coat's).
 #[inline]
 pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     let tri = scene.triangles[triangle as usize];
@@ -149,27 +156,26 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     let vertex = element_or(scene.normals, triangle as usize, TriangleNormals::default());
     // Stored normals are unit, so a zero first one marks a flat triangle.
     let flat = vertex.n[0] == 0.0 && vertex.n[1] == 0.0 && vertex.n[2] == 0.0;
-    // The material's textures index alone (not the whole material, which the callers copy
-    // once, for shading).
     let textures = scene.materials[tri.material as usize].textures;
-    let normal_texture = textures != 0
-        && element_or(scene.material_textures, textures as usize, MaterialTextures::default())
-            .normal
-            .is_some();
-    if flat && !normal_texture {
+    let t = if textures != 0 {
+        element_or(scene.material_textures, textures as usize, MaterialTextures::default())
+    } else {
+        MaterialTextures::default()
+    };
+    let (normal_texture, coat_texture) = (t.normal.is_some(), t.clearcoat_normal.is_some());
+    if flat && !normal_texture && !coat_texture {
         return Normals::flat(ng);
     }
     let b = barycentrics(&tri, p);
     let interpolated = if flat { ng } else { vertex.at(b) };
     let n = if flat { ng } else { shading_normal(interpolated, ng) };
-    if !normal_texture {
-        return Normals { geometric: ng, shading: n };
+    if !normal_texture && !coat_texture {
+        return Normals::shaded(ng, n);
     }
-    let t = element_or(scene.material_textures, textures as usize, MaterialTextures::default());
     let coords = element_or(scene.texcoords, triangle as usize, TriangleTexcoords::default());
-    let r = t.normal;
-    // The vertex tangents' frame, else the one of the normal texture's own coordinates (its
-    // set, its transform).
+    // The frame's coordinates: the normal texture's (its set, its transform), else the coat's.
+    let r = if normal_texture { t.normal } else { t.clearcoat_normal };
+    // The vertex tangents' frame, else the one of the texture coordinates' own.
     let tangents = element_or(scene.tangents, triangle as usize, TriangleTangents::default());
     // The vertex normal as interpolated (MikkTSpace's), but where vertex normals cancel, the
     // normal the shading falls back to.
@@ -184,8 +190,28 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
         );
         frame = TangentFrame::of_mapping(n, dp_du, dp_dv);
     }
-    let texel = lookup(scene, r, coords.at(0, b), coords.at(1, b), false).truncate();
-    Normals { geometric: ng, shading: shading_normal(frame.bend(texel, t.normal_scale, n), ng) }
+    let (uv0, uv1) = (coords.at(0, b), coords.at(1, b));
+    let (mut shading, mut coat) = (n, n);
+    // One lookup in a loop over the two textures (the device module keeps one copy of it).
+    let mut slot = 0;
+    while slot < 2 {
+        let (r, scale) = if slot == 0 {
+            (t.normal, t.normal_scale)
+        } else {
+            (t.clearcoat_normal, t.clearcoat_normal_scale)
+        };
+        if r.is_some() {
+            let texel = lookup(scene, r, uv0, uv1, false).truncate();
+            let bent = shading_normal(frame.bend(texel, scale, n), ng);
+            if slot == 0 {
+                shading = bent;
+            } else {
+                coat = bent;
+            }
+        }
+        slot += 1;
+    }
+    Normals { geometric: ng, shading, coat }
 }
 
 /// The material of triangle `triangle` at barycentric coordinates `b` (see the module doc).

@@ -471,7 +471,7 @@ fn tilted() -> (Normals, impl Fn(u32, u32) -> Vec3) {
         let r = (1.0 - z * z).max(0.0).sqrt();
         Vec3::new(r * (2.0 * PI * u.y).cos(), r * (2.0 * PI * u.y).sin(), z)
     };
-    (Normals { geometric: Vec3::Y, shading: ns }, sphere)
+    (Normals::shaded(Vec3::Y, ns), sphere)
 }
 
 /// With a shading normal, the lobes are the flat BSDF's about the shading normal wherever the

@@ -1,5 +1,6 @@
 use super::*;
 use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample, Material, Normals};
+use crate::normals::scattering_cosine;
 use crate::rng::{uniform, RngKey};
 use core::f32::consts::PI;
 use std::f64::consts::PI as PI64;
@@ -164,7 +165,7 @@ fn the_layers_samples_follow_its_density() {
 #[test]
 fn coated_samples_agree_with_eval_and_pdf() {
     let ns = Vec3::new(20f32.to_radians().sin(), 20f32.to_radians().cos(), 0.0);
-    for n in [Normals::flat(Vec3::Y), Normals { geometric: Vec3::Y, shading: ns }] {
+    for n in [Normals::flat(Vec3::Y), Normals::shaded(Vec3::Y, ns)] {
         for m in [
             coated_lambert(0.7, 1.0, 0.0),
             coated_lambert(0.7, 0.6, 0.3),
@@ -256,4 +257,113 @@ fn the_coat_covers_transmission() {
     // weight at wo, less what the GGX layer's single scattering loses.
     let coated_r = coated_r / trials as f64;
     assert!(coated_r < w as f64 * 1.01 && coated_r > w as f64 * 0.8, "{coated_r} vs {w}");
+}
+
+/// Normals where the base's normal texture bent the shading normal 25° and the coat keeps the
+/// geometric one (the extension's coat without its own normal texture).
+fn apart() -> Normals {
+    let ns = Vec3::new(25f32.to_radians().sin(), 25f32.to_radians().cos(), 0.0);
+    Normals { geometric: Vec3::Y, shading: ns, coat: Vec3::Y }
+}
+
+/// With the coat's normal apart from the shading normal, the coated material is the base in
+/// the shading frame under the layer in the coat's frame, its weight the coat normal's, the
+/// layer's cosine the coat normal's once the callers' shading cosine multiplies it.
+#[test]
+fn the_layer_lies_in_the_coat_normals_frame() {
+    let n = apart();
+    let m = coated_plastic(1.0, 0.4);
+    let bare = Material { clearcoat: 0.0, ..m };
+    let (mut checked, mut differs) = (0, 0);
+    for i in 0..4000 {
+        let (wo, wi) = (sphere(i, 20), sphere(i, 21));
+        if !(wo.y > 0.0 && n.shading.dot(wo) > 0.0 && wi.y > 0.0 && n.shading.dot(wi) > 0.0) {
+            continue;
+        }
+        for radiance in [true, false] {
+            let (v, l) = if radiance { (wo, wi) } else { (wi, wo) };
+            // The layer in the coat's frame, which is the world's here (y up): (x, z, y) local.
+            let local = |w: Vec3| Vec3::new(w.x, w.z, w.y);
+            let (w, layer) = spec_layer(1.0, 0.16, local(v), local(l));
+            let expected = bsdf_eval(&bare, n, wo, wi, radiance).as_dvec3() * (1.0 - w)
+                + layer * w * (l.y as f64 / n.shading.dot(l) as f64);
+            let f = bsdf_eval(&m, n, wo, wi, radiance).as_dvec3();
+            assert!((f - expected).abs().max_element() < 1e-4 * expected.max_element(), "{f} vs {expected}");
+            checked += 1;
+            differs += usize::from(
+                (f - bsdf_eval(&m, Normals::shaded(n.geometric, n.shading), wo, wi, radiance).as_dvec3())
+                    .abs()
+                    .max_element()
+                    > 1e-3 * f.max_element(),
+            );
+        }
+    }
+    assert!(checked > 1000 && differs > checked / 2, "{checked} {differs}");
+}
+
+/// A path's contribution does not depend on the end it was traced from, with the coat's normal
+/// apart from the shading normal: f times the callers' cosine over the geometric cosine of the
+/// continuing direction, traced from the light (importance, light from wo) and from the camera
+/// (radiance, the roles swapped), as `crate::normals`' own test asks of the shading normal.
+#[test]
+fn the_coat_keeps_contributions_independent_of_the_tracing_direction() {
+    let n = apart();
+    for m in [coated_plastic(1.0, 0.4), coated_lambert(0.6, 0.8, 0.2)] {
+        let mut checked = 0;
+        for i in 0..4000 {
+            let (wo, wi) = (sphere(i, 22), sphere(i, 23));
+            let from_light = bsdf_eval(&m, n, wo, wi, false) * scattering_cosine(n, wo, wi, false)
+                / n.geometric.dot(wi).abs();
+            let from_camera = bsdf_eval(&m, n, wi, wo, true) * scattering_cosine(n, wi, wo, true)
+                / n.geometric.dot(wo).abs();
+            let scale = from_light.max_element().max(from_camera.max_element());
+            if scale > 0.0 {
+                checked += 1;
+                assert!(
+                    (from_light - from_camera).abs().max_element() <= 1e-4 * scale,
+                    "{from_light} vs {from_camera}"
+                );
+            }
+        }
+        assert!(checked > 500, "{checked}");
+    }
+}
+
+/// With the coat's normal apart: a smooth coat mirrors about the coat's normal, its weight over
+/// its probability the coat's weight (radiance) or that times Veach's geometric ratio
+/// (importance); every other sample reports the f and density that eval and pdf give it.
+#[test]
+fn coat_samples_in_the_coats_frame_agree_with_eval_and_pdf() {
+    let n = apart();
+    for m in [coated_plastic(1.0, 0.0), coated_lambert(0.7, 0.6, 0.3)] {
+        let (mut mirrors, mut others) = (0, 0);
+        for i in 0..6000 {
+            let wo = sphere(i, 24);
+            let radiance = i % 2 == 0;
+            let s = bsdf_sample(&m, n, wo, u2(i, 25), radiance);
+            if !(s.pdf > 0.0) {
+                continue;
+            }
+            let g = n.facing(wo);
+            if s.delta {
+                mirrors += 1;
+                let mirror = 2.0 * wo.dot(g.coat) * g.coat - wo;
+                assert!((s.wi - mirror).length() < 1e-5, "{} vs {mirror}", s.wi);
+                let weight = s.f.x * scattering_cosine(n, wo, s.wi, radiance) / s.pdf;
+                let w = layer_weight(m.clearcoat, g.coat.dot(wo));
+                let expected = if radiance { w } else { w * g.geometric.dot(s.wi) / g.geometric.dot(wo) };
+                assert!(
+                    (weight - expected / s.pdf).abs() < 1e-4 * expected / s.pdf,
+                    "{weight} vs {expected} / {}",
+                    s.pdf
+                );
+                continue;
+            }
+            others += 1;
+            let (f, pdf) = (bsdf_eval(&m, n, wo, s.wi, radiance), bsdf_pdf(&m, n, wo, s.wi));
+            assert!((s.f - f).abs().max_element() <= 1e-4 * f.max_element().max(1e-3), "{} {f}", s.f);
+            assert!((s.pdf - pdf).abs() <= 1e-4 * pdf.max(1e-3), "{} {pdf}", s.pdf);
+        }
+        assert!(others > 1000 && (mirrors > 0) == m.has_smooth_coat(), "{others} {mirrors}");
+    }
 }

@@ -108,6 +108,8 @@ fn fixture() -> Fixture {
                 clearcoat_roughness: TextureRef::NONE,
                 clearcoat_factor: 0.0,
                 clearcoat_roughness_factor: 0.0,
+                clearcoat_normal: TextureRef::NONE,
+                clearcoat_normal_scale: 1.0,
             },
         ],
         textures: vec![
@@ -271,6 +273,46 @@ fn the_normal_texture_bends_the_shading_normal() {
         "{right:?}"
     );
     assert_eq!(normals_at(&scene, 1, Vec3::new(0.2, 0.1, 0.0)), Normals::flat(Vec3::Z));
+}
+
+/// The clear coat's normal: unbent where only the base has a normal texture, bent by its own
+/// clearcoatNormalTexture (and scale) in the same frame where it has one, and the shading
+/// normal where the material has neither.
+#[test]
+fn the_coat_normal_is_bent_by_its_own_texture_only() {
+    let mut f = fixture();
+    let first = f.texels.len() as u32;
+    f.texels.extend([rgba(255, 128, 128, 255), rgba(128, 255, 128, 255)]);
+    f.textures.push(Texture {
+        offset: first,
+        width: 2,
+        height: 1,
+        sampler: Texture::sampler(WRAP_REPEAT, WRAP_REPEAT, true),
+    });
+    let scaled = texture_transform([0.0, 0.0], 0.0, [0.5, 0.5]);
+    let texture = TextureRef { texture: 3, tex_coord: 1, transform: scaled };
+    let c = 128.0 / 255.0 * 2.0 - 1.0;
+    let left = Vec3::new(0.2, 0.1, 0.0);
+    let leaning = Vec3::new(0.5, -0.5 * c, c).normalize();
+    // The base's normal texture alone: the coat stays flat.
+    f.material_textures[1].normal = texture;
+    f.material_textures[1].normal_scale = 0.5;
+    let n = normals_at(&f.scene(), 0, left);
+    assert!((n.shading - leaning).abs().max_element() < 1e-6 && n.coat == Vec3::Z, "{n:?}");
+    // The coat's own texture alone (the frame from its coordinates): the shading stays flat.
+    f.material_textures[1].normal = TextureRef::NONE;
+    f.material_textures[1].clearcoat_normal = texture;
+    f.material_textures[1].clearcoat_normal_scale = 0.5;
+    let n = normals_at(&f.scene(), 0, left);
+    assert!((n.coat - leaning).abs().max_element() < 1e-6 && n.shading == Vec3::Z, "{n:?}");
+    // Both, each with its scale.
+    f.material_textures[1].normal = texture;
+    f.material_textures[1].normal_scale = 1.0;
+    let n = normals_at(&f.scene(), 0, left);
+    assert!((n.coat - leaning).abs().max_element() < 1e-6, "{n:?}");
+    assert!((n.shading - Vec3::new(1.0, -c, c).normalize()).abs().max_element() < 1e-6, "{n:?}");
+    // Neither: the coat's normal is the shading one.
+    assert_eq!(normals_at(&f.scene(), 1, left), Normals::flat(Vec3::Z));
 }
 
 /// Where a triangle has vertex tangents the normal texture bends the normal in their frame,
