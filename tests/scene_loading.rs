@@ -851,9 +851,9 @@ fn a_mesh_tangent_sets_the_normal_textures_frame() {
 
 /// `KHR_materials_clearcoat` reads as the spec defines it: the intensity and roughness factors
 /// (α = roughness²; 0 by default), their textures with their own texCoord and transform, the
-/// extension accepted where a file requires it; what smlt does not model is said once per
-/// material, and values outside the spec's ranges and references to no texture are refused in
-/// one line by their glTF path.
+/// coat's normal texture and its scale, the extension accepted where a file requires it; what
+/// smlt does not model (the emission's darkening) is said, and values outside the spec's ranges
+/// and references to no texture are refused in one line by their glTF path.
 #[test]
 fn clearcoat_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     let base: Value = serde_json::from_str(include_str!("../scenes/textured.gltf")).unwrap();
@@ -903,8 +903,15 @@ fn clearcoat_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
         json!({"clearcoatFactor": 1.0, "clearcoatTexture": {"index": 1}});
     let Err(text) = load(&doc).map_err(|e| e.to_string()) else { panic!("loaded without TEXCOORD_0") };
     assert!(text.contains("reads TEXCOORD_0, which the primitive does not have"), "{text}");
-    // What is not modelled is said: the coat's own normal texture, a base's normal texture
-    // the coat follows, an emission the coat does not darken.
+    // The coat's own normal texture, with its scale.
+    let scene = coated(
+        json!({"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 1, "scale": 0.5}}),
+        &|_| {},
+    )
+    .unwrap();
+    let t = scene.material_textures[scene.materials[1].textures as usize];
+    assert!(t.clearcoat_normal.is_some() && !t.normal.is_some() && t.clearcoat_normal_scale == 0.5);
+    // What is not modelled is said: an emission the coat does not darken.
     let warned = |coat: Value, edit: &dyn Fn(&mut Value), what: &str| {
         let scene = coated(coat, edit).unwrap();
         assert!(
@@ -913,16 +920,6 @@ fn clearcoat_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
             scene.warnings
         );
     };
-    warned(
-        json!({"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 0}}),
-        &|_| {},
-        "clearcoatNormalTexture is ignored",
-    );
-    warned(
-        json!({"clearcoatFactor": 1.0}),
-        &|doc| doc["materials"][0]["normalTexture"] = json!({"index": 0}),
-        "follows its normalTexture",
-    );
     warned(
         json!({"clearcoatFactor": 1.0}),
         &|doc| doc["materials"][0]["emissiveFactor"] = json!([1.0, 1.0, 1.0]),
@@ -939,6 +936,10 @@ fn clearcoat_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
         (
             json!({"clearcoatFactor": 1.0, "clearcoatRoughnessTexture": {}}),
             "clearcoatRoughnessTexture: no index",
+        ),
+        (
+            json!({"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 0, "scale": "deep"}}),
+            "clearcoatNormalTexture.scale: \"deep\" is not a finite number",
         ),
     ] {
         match coated(coat, &|_| {}) {

@@ -257,7 +257,9 @@ pub fn brdf_scene(point: bool) -> SceneData {
 }
 
 /// glTF's clear coat (`KHR_materials_clearcoat`) over each kind of base, on a Lambert floor
-/// before a wall: a smooth coat over a red plastic ball (the glTF BRDF), a rough coat (0.3) over
+/// before a wall: a smooth coat over a red plastic ball (the glTF BRDF) whose normal texture
+/// ridges the base and not the coat, a glossy coat (0.1) whose own normal texture ridges it
+/// over a smooth blue ball, a rough coat (0.3) over
 /// a white Lambert block, a half-strength smooth coat over rough gold, and a rough coat (0.2)
 /// over a thin glass pane, and a rough coat (0.5) over a black tile; lit by an area lamp, or with `point` by a point lamp (whose light
 /// off the smooth coats no path tracer renders).
@@ -266,9 +268,22 @@ pub fn coated_scene(point: bool) -> SceneData {
     let mut b = GltfBuilder::new();
     floor_and_wall(&mut b, 2.0);
     let v = Vec3::new;
+    // Smooth spheres with ridges: in the base's normal texture under a smooth coat, which keeps
+    // the coat's normal unbent; in the coat's own normal texture over a smooth base.
+    let ridges = || {
+        smlt::scenes::png(6, 1, |x, _| {
+            [[128, 128, 255, 255], [165, 128, 245, 255], [100, 140, 248, 255]][(x % 3) as usize]
+        })
+    };
+    let along = smlt::scenes::Planar { u: Vec3::X * 1.5, v: Vec3::Y };
     let paint = b.pbr("red paint", [0.7, 0.1, 0.08], 0.0, 0.5);
     b.clearcoat(paint, 1.0, 0.0);
-    b.sphere(paint, v(-0.6, 0.4, -0.6), 0.4, 10);
+    b.texture(paint, "normalTexture", ridges(), serde_json::json!({"magFilter": 9729}), None, along);
+    b.smooth_sphere(paint, v(-0.6, 0.4, -0.6), 0.4, 10);
+    let rippled = b.pbr("rippled coat", [0.2, 0.3, 0.7], 0.0, 0.6);
+    b.clearcoat(rippled, 1.0, 0.1);
+    b.texture(rippled, "clearcoatNormalTexture", ridges(), serde_json::json!({"magFilter": 9729}), None, along);
+    b.smooth_sphere(rippled, v(-1.0, 0.3, -1.4), 0.3, 10);
     let white = b.material("coated white", [0.8; 3], [0.0; 3], 1.0, None);
     b.clearcoat(white, 1.0, 0.3);
     b.cuboid(white, v(0.5, 0.25, -0.3), v(0.25, 0.25, 0.25), 0.5);

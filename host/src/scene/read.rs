@@ -301,7 +301,7 @@ fn read_material(
         }
     }
     let glass = read_glass(m, &label, warnings, name)?;
-    let coat = read_clearcoat(m, store, source, (&label, &at), warnings)?;
+    let coat = read_clearcoat(m, store, source, &at, warnings)?;
     if coat.factor > 0.0 && e[0].max(e[1]).max(e[2]) * strength > 0.0 {
         warnings.push(format!(
             "{label}: its emission is not darkened by its clear coat (the extension darkens it)"
@@ -312,6 +312,8 @@ fn read_material(
         clearcoat_roughness: coat.roughness_texture,
         clearcoat_factor: coat.factor,
         clearcoat_roughness_factor: coat.roughness,
+        clearcoat_normal: coat.normal,
+        clearcoat_normal_scale: coat.normal_scale,
         ..textures
     };
     let textured = textures.slots().iter().any(TextureRef::is_some) || textures.alpha_mode != ALPHA_OPAQUE;
@@ -371,16 +373,18 @@ struct Clearcoat {
     roughness: f32,
     texture: TextureRef,
     roughness_texture: TextureRef,
+    normal: TextureRef,
+    /// clearcoatNormalTexture's scale.
+    normal_scale: f32,
 }
 
-/// The clear coat of `m` (`shared::clearcoat`): its factors and the textures they multiply (none
-/// where the factor is 0: the layer is off). Its normal texture is not read: the coat takes the
-/// base's shading normal, which the warnings say where it differs from the spec's.
+/// The clear coat of `m` (`shared::clearcoat`): its factors and the textures they multiply, and
+/// its normal texture (none where the factor is 0: the layer is off).
 fn read_clearcoat(
     m: &gltf::Material,
     store: &mut TextureStore,
     source: &Source,
-    (label, at): (&str, &str),
+    at: &str,
     warnings: &mut Vec<String>,
 ) -> Result<Clearcoat, SceneError> {
     let mut coat = Clearcoat {
@@ -388,6 +392,8 @@ fn read_clearcoat(
         roughness: 0.0,
         texture: TextureRef::NONE,
         roughness_texture: TextureRef::NONE,
+        normal: TextureRef::NONE,
+        normal_scale: 1.0,
     };
     let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
         return Ok(coat);
@@ -404,14 +410,12 @@ fn read_clearcoat(
     };
     coat.texture = slot("clearcoatTexture", warnings)?;
     coat.roughness_texture = slot("clearcoatRoughnessTexture", warnings)?;
-    if ext.get("clearcoatNormalTexture").is_some() {
-        warnings.push(format!(
-            "{label}: clearcoatNormalTexture is ignored (the coat takes the base's shading normal)"
-        ));
-    } else if m.normal_texture().is_some() {
-        warnings.push(format!(
-            "{label}: its clear coat follows its normalTexture (the extension keeps the coat unbent)"
-        ));
+    coat.normal = slot("clearcoatNormalTexture", warnings)?;
+    if let Some(scale) = ext.get("clearcoatNormalTexture").and_then(|t| t.get("scale")) {
+        coat.normal_scale = scale.as_f64().filter(|s| s.is_finite()).ok_or_else(|| SceneError::Malformed {
+            path: source.name.into(),
+            what: format!("{at}.clearcoatNormalTexture.scale: {scale} is not a finite number"),
+        })? as f32;
     }
     Ok(coat)
 }
@@ -718,9 +722,19 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                         positions.len()
                     )));
                 }
-                // A normal texture's vertex tangents, each triangle's corners in the mesh's space.
-                let normal_texture = Some(soup.material_textures[textures as usize].normal)
-                    .filter(|r| textures != 0 && r.is_some());
+                // A normal texture's vertex tangents, each triangle's corners in the mesh's space:
+                // in the coordinates of the normal texture, else of the coat's (as
+                // `shared::surface::normals_at` takes them).
+                let normal_texture = (textures != 0)
+                    .then(|| {
+                        let t = &soup.material_textures[textures as usize];
+                        if t.normal.is_some() {
+                            t.normal
+                        } else {
+                            t.clearcoat_normal
+                        }
+                    })
+                    .filter(TextureRef::is_some);
                 let tangents = match (normal_texture, &local_normals, &texcoords) {
                     (Some(r), Some(normals), Some(sets)) => {
                         let mesh =

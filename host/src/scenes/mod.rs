@@ -290,7 +290,8 @@ impl GltfBuilder {
     }
 
     /// Gives `material` a texture in `slot` (`baseColorTexture`, `metallicRoughnessTexture`,
-    /// `emissiveTexture` or `normalTexture`): a PNG, its sampler's JSON and an optional
+    /// `emissiveTexture`, `normalTexture`, or a clear coat's ([`GltfBuilder::clearcoat`] first):
+    /// `clearcoatTexture`, `clearcoatRoughnessTexture`, `clearcoatNormalTexture`): a PNG, its sampler's JSON and an optional
     /// `KHR_texture_transform`, read with TEXCOORD_0, which the material's meshes get from
     /// `projection`.
     pub fn texture(
@@ -309,7 +310,11 @@ impl GltfBuilder {
             info["extensions"] = json!({"KHR_texture_transform": t});
         }
         let m = &mut self.materials[material];
-        if slot == "emissiveTexture" || slot == "normalTexture" {
+        if slot.starts_with("clearcoat") {
+            let coat = &mut m["extensions"]["KHR_materials_clearcoat"];
+            assert!(coat.is_object(), "a clear coat's texture needs the coat ({slot})");
+            coat[slot] = info;
+        } else if slot == "emissiveTexture" || slot == "normalTexture" {
             m[slot] = info;
         } else {
             m["pbrMetallicRoughness"][slot] = info;
