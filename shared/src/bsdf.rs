@@ -364,10 +364,19 @@ fn rough_dielectric_pdf(alpha: f32, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn bsdf_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
-    let base = base_eval(m, n, wo, wi, radiance);
-    if !(m.clearcoat > 0.0) {
-        return base;
+    if m.clearcoat > 0.0 {
+        return coated_eval(m, n, wo, wi, radiance);
     }
+    base_eval(m, n, wo, wi, radiance)
+}
+
+/// [`bsdf_eval`] of a coated material: the lobes beneath, under the coat's layer.
+// Out of line and cold: materials without a coat pay a compare and a call site for it (2–4 %
+// of `pt`'s and naive's time, `results/cpu-path/clearcoat/`).
+#[cold]
+#[inline(never)]
+fn coated_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
+    let base = base_eval(m, n, wo, wi, radiance);
     let f = n.facing(wo);
     let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(f.coat, wo, wi, radiance));
     base * (1.0 - w) + Vec3::splat(w * coat_eval(m, f, wo, wi, radiance))
@@ -397,9 +406,10 @@ fn above_coat(f: Normals, w: Vec3) -> bool {
 }
 
 /// f(wo, wi) of the material's lobes without its clear coat ([`bsdf_eval`]).
-// Calls on the device, not copies at every call site: the module stays ~20 % smaller.
+// Calls on the device, not copies at every call site: the module stays ~20 % smaller; on the
+// host the uncoated path of `bsdf_eval`, whole.
 #[cfg_attr(target_arch = "spirv", inline(never))]
-#[cfg_attr(not(target_arch = "spirv"), inline)]
+#[cfg_attr(not(target_arch = "spirv"), inline(always))]
 fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
     let Some(ns) = shading_side(n, wo) else {
         return Vec3::ZERO;
@@ -455,10 +465,19 @@ fn brdf_pdf(m: &Material, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn bsdf_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
-    let base = base_pdf(m, n, wo, wi);
-    if !(m.clearcoat > 0.0) {
-        return base;
+    if m.clearcoat > 0.0 {
+        return coated_pdf(m, n, wo, wi);
     }
+    base_pdf(m, n, wo, wi)
+}
+
+/// [`bsdf_pdf`] of a coated material: the coat's share and the lobes' beneath.
+// Out of line and cold: materials without a coat pay a compare and a call site for it (2–4 %
+// of `pt`'s and naive's time, `results/cpu-path/clearcoat/`).
+#[cold]
+#[inline(never)]
+fn coated_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
+    let base = base_pdf(m, n, wo, wi);
     let f = n.facing(wo);
     let nc = f.coat;
     let p = coat::probability(m.clearcoat, nc.dot(wo));
@@ -472,9 +491,10 @@ pub fn bsdf_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
 
 /// The density of sampling `wi` from the material's lobes without its clear coat
 /// ([`bsdf_pdf`]).
-// Calls on the device, not copies at every call site: the module stays ~20 % smaller.
+// Calls on the device, not copies at every call site: the module stays ~20 % smaller; on the
+// host the uncoated path of `bsdf_pdf`, whole.
 #[cfg_attr(target_arch = "spirv", inline(never))]
-#[cfg_attr(not(target_arch = "spirv"), inline)]
+#[cfg_attr(not(target_arch = "spirv"), inline(always))]
 fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
     let Some(ns) = shading_side(n, wo) else {
         return 0.0;
@@ -628,44 +648,60 @@ fn dielectric_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radi
 }
 
 /// Samples `wi` for `wo` with `u` ∈ [0,1)²; `radiance` is the transport mode (see
-/// [`dielectric_sample`] and `crate::clearcoat`; the other lobes are reciprocal). A coated
-/// material's coat is sampled with [`coat::probability`] ([`coat_sample`]), else the lobes
-/// beneath (none where `wo` lies below the shading normal's hemisphere), whose delta samples
-/// the coat's weight and probability scale (their other samples' f and density are the whole
-/// material's already).
+/// [`dielectric_sample`] and `crate::clearcoat`; the other lobes are reciprocal).
 #[inline]
 pub fn bsdf_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
-    let coated = m.clearcoat > 0.0;
+    if m.clearcoat > 0.0 {
+        return coated_sample(m, n, wo, u, radiance);
+    }
+    let Some(ns) = shading_side(n, wo) else {
+        return BsdfSample::default();
+    };
+    base_sample(m, n, ns, wo, u, radiance)
+}
+
+/// The lobes beneath the coat's sample, `ns` the shading normal on `wo`'s side.
+#[inline]
+fn base_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
+    let bs = lobe_sample(m, n, ns, wo, u, radiance);
+    // A delta lobe's direction where the normals disagree on its side fails (the others'
+    // densities are 0 there already).
+    if bs.delta && !sides_agree(n, wo, bs.wi) {
+        return BsdfSample::default();
+    }
+    bs
+}
+
+/// [`bsdf_sample`] of a coated material: the coat with [`coat::probability`] ([`coat_sample`]),
+/// else the lobes beneath (none where `wo` lies below the shading normal's hemisphere), whose
+/// delta samples the coat's weight and probability scale (their other samples' f and density
+/// are the whole material's already).
+// Out of line and cold: materials without a coat pay a compare and a call site for it, and the
+// device module keeps one copy.
+#[cold]
+#[inline(never)]
+fn coated_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
     let nc = n.facing(wo).coat;
-    let p = if coated { coat::probability(m.clearcoat, nc.dot(wo)) } else { 0.0 };
+    let p = coat::probability(m.clearcoat, nc.dot(wo));
     if u.x < p {
         return coat_sample(m, n, wo, Vec2::new((u.x / p).min(1.0 - f32::EPSILON), u.y), radiance, p);
     }
     let Some(ns) = shading_side(n, wo) else {
         return BsdfSample::default();
     };
-    let v = if coated { Vec2::new(((u.x - p) / (1.0 - p)).min(1.0 - f32::EPSILON), u.y) } else { u };
-    let mut bs = lobe_sample(m, n, ns, wo, v, radiance);
+    let v = Vec2::new(((u.x - p) / (1.0 - p)).min(1.0 - f32::EPSILON), u.y);
+    let mut bs = base_sample(m, n, ns, wo, v, radiance);
     if bs.delta {
-        // A delta lobe's direction where the normals disagree on its side fails (the others'
-        // densities are 0 there already).
-        if !sides_agree(n, wo, bs.wi) {
-            return BsdfSample::default();
-        }
-        if coated {
-            let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(nc, wo, bs.wi, radiance));
-            bs.f *= 1.0 - w;
-            bs.pdf *= 1.0 - p;
-        }
+        let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(nc, wo, bs.wi, radiance));
+        bs.f *= 1.0 - w;
+        bs.pdf *= 1.0 - p;
     }
     bs
 }
 
 /// The coat's sample for `wo` with `u` ∈ [0,1)², chosen with probability `p`: in its own frame
 /// (`crate::clearcoat`), its mirror a delta of weight w over `p`.
-// Calls on the device, not copies at every call site.
-#[cfg_attr(target_arch = "spirv", inline(never))]
-#[cfg_attr(not(target_arch = "spirv"), inline)]
+#[inline]
 fn coat_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool, p: f32) -> BsdfSample {
     let f = n.facing(wo);
     let nc = f.coat;

@@ -156,13 +156,15 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     let vertex = element_or(scene.normals, triangle as usize, TriangleNormals::default());
     // Stored normals are unit, so a zero first one marks a flat triangle.
     let flat = vertex.n[0] == 0.0 && vertex.n[1] == 0.0 && vertex.n[2] == 0.0;
+    // The material's textures index alone (not the whole material, which the callers copy
+    // once, for shading), and its textures only where it has some.
     let textures = scene.materials[tri.material as usize].textures;
-    let t = if textures != 0 {
-        element_or(scene.material_textures, textures as usize, MaterialTextures::default())
+    let (normal_texture, coat_texture) = if textures != 0 {
+        let t = element_or(scene.material_textures, textures as usize, MaterialTextures::default());
+        (t.normal.is_some(), t.clearcoat_normal.is_some())
     } else {
-        MaterialTextures::default()
+        (false, false)
     };
-    let (normal_texture, coat_texture) = (t.normal.is_some(), t.clearcoat_normal.is_some());
     if flat && !normal_texture && !coat_texture {
         return Normals::flat(ng);
     }
@@ -172,6 +174,7 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     if !normal_texture && !coat_texture {
         return Normals::shaded(ng, n);
     }
+    let t = element_or(scene.material_textures, textures as usize, MaterialTextures::default());
     let coords = element_or(scene.texcoords, triangle as usize, TriangleTexcoords::default());
     // The frame's coordinates: the normal texture's (its set, its transform), else the coat's.
     let r = if normal_texture { t.normal } else { t.clearcoat_normal };

@@ -282,7 +282,14 @@ pub fn coated_scene(point: bool) -> SceneData {
     b.smooth_sphere(paint, v(-0.6, 0.4, -0.6), 0.4, 10);
     let rippled = b.pbr("rippled coat", [0.2, 0.3, 0.7], 0.0, 0.6);
     b.clearcoat(rippled, 1.0, 0.1);
-    b.texture(rippled, "clearcoatNormalTexture", ridges(), serde_json::json!({"magFilter": 9729}), None, along);
+    b.texture(
+        rippled,
+        "clearcoatNormalTexture",
+        ridges(),
+        serde_json::json!({"magFilter": 9729}),
+        None,
+        along,
+    );
     b.smooth_sphere(rippled, v(-1.0, 0.3, -1.4), 0.3, 10);
     let white = b.material("coated white", [0.8; 3], [0.0; 3], 1.0, None);
     b.clearcoat(white, 1.0, 0.3);

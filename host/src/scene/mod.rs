@@ -8,7 +8,8 @@
 //!   spec says);
 //! - materials: glTF's metallic-roughness BRDF (`baseColorFactor`, `metallicFactor`,
 //!   `roughnessFactor`, `KHR_materials_specular`, `KHR_materials_ior`), glass
-//!   (`KHR_materials_transmission`, `_volume`); `emissiveFactor` ×
+//!   (`KHR_materials_transmission`, `_volume`), the clear coat (`KHR_materials_clearcoat`, its
+//!   textures and normal texture, read from the JSON: `read`); `emissiveFactor` ×
 //!   `KHR_materials_emissive_strength` → emission (one-sided, along the triangle's
 //!   counter-clockwise normal); the Phong exponent from the material's extras, key
 //!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness,
