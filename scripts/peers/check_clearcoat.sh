@@ -23,19 +23,8 @@ export DRJIT_LIBLLVM_PATH
 mkdir -p "$out"
 cd "$out"
 "$smlt" scene coated --out coated.gltf >/dev/null
-python3 - <<'PY'
-import base64, json, math, struct
-# A plate 16 m wide, seen from (0, 1.2, 1.2) looking at the origin (yfov 0.5: the plate fills the
-# view), lit by a sun of 683 lux (1 W/m²) from (0.4, 1, 0.3) - as check_materials.sh's plates.
-p = [(-8, 0, 8), (8, 0, 8), (8, 0, -8), (-8, 0, -8)]
-data = b"".join(struct.pack("<3f", *v) for v in p) + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
-to_sun = [0.4, 1.0, 0.3]
-n = math.sqrt(sum(c * c for c in to_sun))
-d = [-c / n for c in to_sun]
-axis = [d[1], -d[0], 0.0]
-s = math.sqrt(sum(c * c for c in axis))
-angle = math.acos(-d[2])
-q = [c / s * math.sin(angle / 2) for c in axis] + [math.cos(angle / 2)]
+PYTHONPATH="$root/scripts/peers" python3 - <<'PY'
+import plate_scene
 lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
 plates = {
     "lacquer": ({"baseColorFactor": [0.8, 0.8, 0.78, 1], "metallicFactor": 0.0}, lambert, (1.0, 0.3)),
@@ -45,19 +34,7 @@ plates = {
 }
 for name, (pbr, ext, (coat, roughness)) in plates.items():
     ext = dict(ext, KHR_materials_clearcoat={"clearcoatFactor": coat, "clearcoatRoughnessFactor": roughness})
-    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
-           "extensionsUsed": ["KHR_lights_punctual"] + sorted(ext), "extensionsRequired": ["KHR_lights_punctual"],
-           "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 683.0}]}},
-           "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
-           "bufferViews": [{"buffer": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
-           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-8, 0, -8], "max": [8, 0, 8]},
-                         {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
-           "materials": [{"name": name, "pbrMetallicRoughness": pbr, "extensions": ext}],
-           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
-           "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}],
-           "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 1.2, 1.2], "rotation": [-0.38268343, 0, 0, 0.92387953]},
-                     {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": q}]}
-    json.dump(doc, open(f"plate_{name}.gltf", "w"))
+    plate_scene.write(f"plate_{name}.gltf", name, pbr, ext)
 PY
 for name in lacquer paint piano gold; do
     "$smlt" reference "plate_$name.gltf" --device cpu --spp 1024 "${size[@]}" --out "ref_plate_$name.exr" | { grep -E "noise" || true; }

@@ -63,6 +63,8 @@ pub mod reject_chain;
 pub mod rng;
 pub mod scene;
 pub mod surface;
+#[cfg(all(test, not(target_arch = "spirv")))]
+mod testing;
 pub mod texture;
 pub mod tree;
 pub mod triangle;

@@ -227,6 +227,20 @@ pub fn sky_scene() -> SceneData {
         .expect("sky scene")
 }
 
+/// The lighting and view of the material scenes (`brdf_scene`, `coated_scene`): an area lamp
+/// above them, or with `point` a point lamp, and the camera.
+fn lamp_and_camera(b: &mut GltfBuilder, point: bool) {
+    let v = Vec3::new;
+    if point {
+        b.point_light(v(0.4, 2.0, 0.2), [1.0; 3], 2000.0);
+    } else {
+        let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 8.0, None);
+        let q = [v(-0.4, 2.0, -0.6), v(0.4, 2.0, -0.6), v(0.4, 2.0, 0.2), v(-0.4, 2.0, 0.2)];
+        b.quad(lamp, smlt::scenes::facing(q, -Vec3::Y));
+    }
+    b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.35, -0.5), Vec3::Y, 50f32.to_radians());
+}
+
 /// glTF's metallic-roughness BRDF on every kind of lobe, on a Lambert floor before a wall: a
 /// rough gold ball (metal, roughness 0.35), a red plastic block (the dielectric layer over a
 /// diffuse base, roughness 0.3), a smooth mirror slab (metal, roughness 0: a delta lobe) and a
@@ -245,14 +259,7 @@ pub fn brdf_scene(point: bool) -> SceneData {
     b.cuboid(mirror, v(0.2, 0.5, -1.5), v(0.5, 0.45, 0.03), 0.2);
     let rough = b.pbr("rough default", [0.6, 0.6, 0.6], 1.0, 1.0);
     b.cuboid(rough, v(-0.9, 0.2, 0.3), v(0.2, 0.2, 0.2), -0.3);
-    if point {
-        b.point_light(v(0.4, 2.0, 0.2), [1.0; 3], 2000.0);
-    } else {
-        let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 8.0, None);
-        let q = [v(-0.4, 2.0, -0.6), v(0.4, 2.0, -0.6), v(0.4, 2.0, 0.2), v(-0.4, 2.0, 0.2)];
-        b.quad(lamp, smlt::scenes::facing(q, -Vec3::Y));
-    }
-    b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.35, -0.5), Vec3::Y, 50f32.to_radians());
+    lamp_and_camera(&mut b, point);
     SceneData::from_slice(b.to_json().as_bytes(), "brdf scene").expect("brdf scene")
 }
 
@@ -306,14 +313,7 @@ pub fn coated_scene(point: bool) -> SceneData {
     let black = b.material("coated black", [0.0; 3], [0.0; 3], 1.0, None);
     b.clearcoat(black, 1.0, 0.5);
     b.cuboid(black, v(0.95, 0.6, -1.0), v(0.3, 0.3, 0.02), -0.3);
-    if point {
-        b.point_light(v(0.4, 2.0, 0.2), [1.0; 3], 2000.0);
-    } else {
-        let lamp = b.material("lamp", [0.0; 3], [1.0; 3], 8.0, None);
-        let q = [v(-0.4, 2.0, -0.6), v(0.4, 2.0, -0.6), v(0.4, 2.0, 0.2), v(-0.4, 2.0, 0.2)];
-        b.quad(lamp, smlt::scenes::facing(q, -Vec3::Y));
-    }
-    b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.35, -0.5), Vec3::Y, 50f32.to_radians());
+    lamp_and_camera(&mut b, point);
     SceneData::from_slice(b.to_json().as_bytes(), "coated scene").expect("coated scene")
 }
 

@@ -3,7 +3,8 @@
 //! under a smooth coat, a blue metallic paint ball (metal, roughness 0.45) under a glossy coat
 //! (roughness 0.1), a white lacquered block (Lambert) under a rough coat (0.3), a black piano
 //! slab (a black Lambert base: the coat alone reflects) under a smooth coat, and rough gold
-//! under a half-strength smooth coat — under a large area lamp and a small one: the scene of
+//! under a half-strength smooth coat — in the `materials` scene's room (`super::materials::studio`: a
+//! floor, a wall, a large area lamp and a small one): the scene of
 //! the coat's check against Mitsuba 3 (`scripts/peers/check_clearcoat.sh`).
 
 use glam::Vec3;
@@ -27,18 +28,11 @@ pub fn coated(tessellation: u32) -> String {
     b.clearcoat(gold, 0.5, 0.0);
     let lamp = b.material("lamp", [0.0; 3], [1.0, 0.95, 0.85], 6.0, None);
     let v = Vec3::new;
-    let (w, h) = (3.0f32, 2.5f32);
-    b.quad(floor, [v(-w, 0., w), v(w, 0., w), v(w, 0., -w), v(-w, 0., -w)]);
-    b.quad(wall, [v(-w, 0., -w), v(w, 0., -w), v(w, h, -w), v(-w, h, -w)]);
     b.sphere(red, v(-1.1, 0.45, -0.3), 0.45, 24);
     b.sphere(blue, v(1.3, 0.4, 0.1), 0.4, 24);
     b.cuboid(white, v(0.2, 0.3, -0.6), v(0.3, 0.3, 0.3), 0.5);
     b.cuboid(black, v(0.3, 0.7, -2.2), v(0.9, 0.7, 0.04), -0.25);
     b.cuboid(gold, v(-0.2, 0.2, 0.6), v(0.2, 0.2, 0.2), 0.3);
-    let big = [v(-1.2, 2.4, -1.2), v(0.4, 2.4, -1.2), v(0.4, 2.4, 0.2), v(-1.2, 2.4, 0.2)];
-    b.quad(lamp, super::facing(big, -Vec3::Y));
-    let small = [v(1.4, 1.8, 0.8), v(1.7, 1.8, 0.8), v(1.7, 1.8, 1.1), v(1.4, 1.8, 1.1)];
-    b.quad(lamp, super::facing(small, -Vec3::Y));
-    b.camera(v(0.3, 1.5, 4.2), v(0.0, 0.45, -0.6), Vec3::Y, 45f32.to_radians());
+    super::materials::studio(&mut b, floor, wall, lamp);
     b.to_json()
 }

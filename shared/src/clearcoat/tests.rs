@@ -1,27 +1,9 @@
 use super::*;
 use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample, Material, Normals};
 use crate::normals::scattering_cosine;
-use crate::rng::{uniform, RngKey};
+use crate::testing::{dir, sphere, u2};
 use core::f32::consts::PI;
 use std::f64::consts::PI as PI64;
-
-fn u2(i: u32, seed: u32) -> Vec2 {
-    let k = |d| uniform(RngKey { seed, chain: i, iteration: 0, dimension: d });
-    Vec2::new(k(0), k(1))
-}
-
-/// A direction at polar angle whose cosine is `c` and azimuth `phi`, in the local frame.
-fn dir(c: f32, phi: f32) -> Vec3 {
-    let s = (1.0 - c * c).max(0.0).sqrt();
-    Vec3::new(s * phi.cos(), s * phi.sin(), c)
-}
-
-fn sphere(i: u32, seed: u32) -> Vec3 {
-    let u = u2(i, seed);
-    let z = 1.0 - 2.0 * u.x;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    Vec3::new(r * (2.0 * PI * u.y).cos(), r * (2.0 * PI * u.y).sin(), z)
-}
 
 /// White Lambert under a coat of intensity `c` and roughness `r`.
 fn coated_lambert(albedo: f32, c: f32, r: f32) -> Material {

@@ -1,10 +1,5 @@
 use super::*;
-use crate::rng::{uniform, RngKey};
-
-fn u2(i: u32, seed: u32) -> Vec2 {
-    let k = |d| uniform(RngKey { seed, chain: i, iteration: 0, dimension: d });
-    Vec2::new(k(0), k(1))
-}
+use crate::testing::u2;
 
 /// A 16 × 8 sky: a smooth gradient, a black row, a bright sun texel and a coloured band.
 fn sky(rotation: f32) -> EnvironmentMap {

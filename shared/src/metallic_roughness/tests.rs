@@ -1,17 +1,6 @@
 use super::*;
-use crate::rng::{uniform, RngKey};
+use crate::testing::{dir, u2};
 use std::f64::consts::PI as PI64;
-
-fn u2(i: u32, seed: u32) -> Vec2 {
-    let k = |d| uniform(RngKey { seed, chain: i, iteration: 0, dimension: d });
-    Vec2::new(k(0), k(1))
-}
-
-/// A direction at polar angle whose cosine is `c` and azimuth `phi`, in the local frame.
-fn dir(c: f32, phi: f32) -> Vec3 {
-    let s = (1.0 - c * c).max(0.0).sqrt();
-    Vec3::new(s * phi.cos(), s * phi.sin(), c)
-}
 
 fn brdf(base: f32, metallic: f32, roughness: f32) -> MetallicRoughness {
     MetallicRoughness::new(

@@ -1,10 +1,5 @@
 use super::*;
-use crate::rng::{uniform, RngKey};
-
-fn u2(i: u32, seed: u32) -> Vec2 {
-    let k = |d| uniform(RngKey { seed, chain: i, iteration: 0, dimension: d });
-    Vec2::new(k(0), k(1))
-}
+use crate::testing::u2;
 
 fn spot() -> PunctualLight {
     PunctualLight::spot(

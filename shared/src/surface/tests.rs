@@ -242,14 +242,10 @@ fn shading_normals_interpolate_the_vertex_normals_at_the_point() {
     assert_eq!(normals_at(&scene, 1, Vec3::new(0.2, 0.2, 0.0)), Normals::flat(Vec3::Z));
 }
 
-/// A material's normal texture bends the shading normal of its triangles at the point's
-/// coordinates (through the texture's own set and transform), the geometric normal stays, and a
-/// material without one keeps the flat normal.
-#[test]
-fn the_normal_texture_bends_the_shading_normal() {
-    let mut f = fixture();
-    // A 2 × 1 nearest texture on TEXCOORD_1 (= 2 (x, y)), scaled by 1/2: left (u' < 0.5) texels
-    // lean to +x, right ones to +y (up in the image: −dp/dv', here −y).
+/// A normal texture added to the fixture: 2 × 1 texels, nearest, read on TEXCOORD_1 (= 2 (x,
+/// y)) scaled by 1/2, so that left of x = 0.5 (u' < 0.5) the texel leans to +x and right of it
+/// to +y (up in the image: −dp/dv', here −y).
+fn leaning_texture(f: &mut Fixture) -> TextureRef {
     let first = f.texels.len() as u32;
     f.texels.extend([rgba(255, 128, 128, 255), rgba(128, 255, 128, 255)]);
     f.textures.push(Texture {
@@ -259,7 +255,16 @@ fn the_normal_texture_bends_the_shading_normal() {
         sampler: Texture::sampler(WRAP_REPEAT, WRAP_REPEAT, true),
     });
     let scaled = texture_transform([0.0, 0.0], 0.0, [0.5, 0.5]);
-    f.material_textures[1].normal = TextureRef { texture: 3, tex_coord: 1, transform: scaled };
+    TextureRef { texture: f.textures.len() as u32 - 1, tex_coord: 1, transform: scaled }
+}
+
+/// A material's normal texture bends the shading normal of its triangles at the point's
+/// coordinates (through the texture's own set and transform), the geometric normal stays, and a
+/// material without one keeps the flat normal.
+#[test]
+fn the_normal_texture_bends_the_shading_normal() {
+    let mut f = fixture();
+    f.material_textures[1].normal = leaning_texture(&mut f);
     f.material_textures[1].normal_scale = 0.5;
     let scene = f.scene();
     let c = 128.0 / 255.0 * 2.0 - 1.0;
@@ -281,16 +286,7 @@ fn the_normal_texture_bends_the_shading_normal() {
 #[test]
 fn the_coat_normal_is_bent_by_its_own_texture_only() {
     let mut f = fixture();
-    let first = f.texels.len() as u32;
-    f.texels.extend([rgba(255, 128, 128, 255), rgba(128, 255, 128, 255)]);
-    f.textures.push(Texture {
-        offset: first,
-        width: 2,
-        height: 1,
-        sampler: Texture::sampler(WRAP_REPEAT, WRAP_REPEAT, true),
-    });
-    let scaled = texture_transform([0.0, 0.0], 0.0, [0.5, 0.5]);
-    let texture = TextureRef { texture: 3, tex_coord: 1, transform: scaled };
+    let texture = leaning_texture(&mut f);
     let c = 128.0 / 255.0 * 2.0 - 1.0;
     let left = Vec3::new(0.2, 0.1, 0.0);
     let leaning = Vec3::new(0.5, -0.5 * c, c).normalize();

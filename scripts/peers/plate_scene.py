@@ -1,0 +1,48 @@
+"""The peers' plate scenes: one material on a plate 16 m wide, seen from (0, 1.2, 1.2) looking
+at the origin (yfov 0.5: the plate fills the view), lit by a sun of 683 lux (1 W/m²) from
+(0.4, 1, 0.3) — one bounce, whose image is the BSDF at each pixel's two directions times the
+sun's irradiance (check_materials.sh, check_clearcoat.sh).
+
+    import plate_scene; plate_scene.write("plate_gold.gltf", "gold", {"metallicFactor": 1.0}, {})
+"""
+
+import base64
+import json
+import math
+import struct
+
+CORNERS = [(-8, 0, 8), (8, 0, 8), (8, 0, -8), (-8, 0, -8)]
+TO_SUN = (0.4, 1.0, 0.3)
+
+
+def _sun_rotation():
+    """The quaternion taking the node's −Z (where a glTF light shines) to the sun's direction."""
+    n = math.sqrt(sum(c * c for c in TO_SUN))
+    d = [-c / n for c in TO_SUN]
+    axis = [d[1], -d[0], 0.0]  # (−Z) × d
+    s = math.sqrt(sum(c * c for c in axis))
+    angle = math.acos(-d[2])
+    return [c / s * math.sin(angle / 2) for c in axis] + [math.cos(angle / 2)]
+
+
+def write(path, name, pbr, extensions):
+    """Writes the plate of material `name` (its pbrMetallicRoughness `pbr` and material
+    `extensions`) to `path`."""
+    data = b"".join(struct.pack("<3f", *v) for v in CORNERS) + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+    material = {"name": name, "pbrMetallicRoughness": pbr}
+    if extensions:
+        material["extensions"] = extensions
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+           "extensionsUsed": ["KHR_lights_punctual"] + sorted(extensions), "extensionsRequired": ["KHR_lights_punctual"],
+           "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 683.0}]}},
+           "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+           "bufferViews": [{"buffer": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-8, 0, -8], "max": [8, 0, 8]},
+                         {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+           "materials": [material],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+           "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}],
+           "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 1.2, 1.2], "rotation": [-0.38268343, 0, 0, 0.92387953]},
+                     {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": _sun_rotation()}]}
+    with open(path, "w") as f:
+        json.dump(doc, f)
