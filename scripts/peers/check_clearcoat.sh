@@ -46,26 +46,16 @@ PYTHONPATH="$root/scripts/peers" python3 - "${size[@]}" <<'PY'
 # plugins, at the pixels' centres; against smlt's reference.
 import sys, tempfile
 import mitsuba as mi
-import drjit as dr
 import numpy as np
 mi.set_variant("llvm_ad_rgb")
-import gltf_scene, mitsuba_coat, mitsuba_gltf, mitsuba_peer
+import gltf_scene, mitsuba_coat, mitsuba_gltf, mitsuba_peer, plate_scene
 mitsuba_gltf.register()
 mitsuba_coat.register()
 w, h, depth = int(sys.argv[2]), int(sys.argv[4]), int(sys.argv[6])
 def exact(scene):
-    sun = scene.lights[0]
     with tempfile.TemporaryDirectory() as folder:
-        mi_scene = mi.load_dict(mitsuba_peer.scene_dict(mi, scene, 1, w, h, depth, folder))
-    sensor = mi_scene.sensors()[0]
-    idx = dr.arange(mi.UInt32, w * h)
-    pos = mi.Point2f((mi.Float(idx % w) + 0.5) / w, (mi.Float(idx // w) + 0.5) / h)
-    ray, _ = sensor.sample_ray(0.0, 0.5, pos, mi.Point2f(0.5))
-    si = mi_scene.ray_intersect(ray)
-    to_sun = si.to_local(mi.Vector3f(*(-float(c) for c in sun.direction)))
-    value = np.array(si.bsdf().eval(mi.BSDFContext(), si, to_sun, si.is_valid()))
-    value = value if value.shape[0] == w * h else value.T
-    return (value * np.array(sun.intensity)).reshape(h, w, 3)
+        d = mitsuba_peer.scene_dict(mi, scene, 1, w, h, depth, folder)
+        return plate_scene.exact_image(mi, d, scene.lights[0], w, h)
 print("plate: smlt mean | exact mean (smlt_coat over the base, one bounce) | difference | RMSE of smlt to exact"
       " | the base alone's exact mean (what the coat changes)")
 for name in ["lacquer", "paint", "piano", "gold"]:

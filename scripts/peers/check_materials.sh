@@ -43,23 +43,12 @@ PYTHONPATH="$root/scripts/peers" python3 - "${size[@]}" <<'PY'
 # glTF BRDF and for Mitsuba's principled, at the pixels' centres; against the renders.
 import sys, tempfile
 import mitsuba as mi
-import drjit as dr
 import numpy as np
 mi.set_variant("llvm_ad_rgb")
-import gltf_scene, mitsuba_gltf, mitsuba_peer
+import gltf_scene, mitsuba_gltf, mitsuba_peer, plate_scene
 mitsuba_gltf.register()
 w, h, depth = int(sys.argv[2]), int(sys.argv[4]), int(sys.argv[6])
-def exact(d, sun):
-    scene = mi.load_dict(d)
-    sensor = scene.sensors()[0]
-    idx = dr.arange(mi.UInt32, w * h)
-    pos = mi.Point2f((mi.Float(idx % w) + 0.5) / w, (mi.Float(idx // w) + 0.5) / h)
-    ray, _ = sensor.sample_ray(0.0, 0.5, pos, mi.Point2f(0.5))
-    si = scene.ray_intersect(ray)
-    value = si.bsdf().eval(mi.BSDFContext(), si, si.to_local(mi.Vector3f(*(-float(c) for c in sun.direction))), si.is_valid())
-    img = np.array(value)
-    img = img if img.shape[0] == w * h else img.T  # (pixels, rgb)
-    return (img * np.array(sun.intensity)).reshape(h, w, 3)
+exact = lambda d, sun: plate_scene.exact_image(mi, d, sun, w, h)  # noqa: E731
 print("plate: smlt | smlt_gltf exact | principled exact, principled render (means; principled vs glTF expected, measured)")
 for name in ["gold", "plastic", "satin", "defaults"]:
     scene = gltf_scene.load(f"plate_{name}.gltf")

@@ -4,6 +4,8 @@ at the origin (yfov 0.5: the plate fills the view), lit by a sun of 683 lux (1 W
 sun's irradiance (check_materials.sh, check_clearcoat.sh).
 
     import plate_scene; plate_scene.write("plate_gold.gltf", "gold", {"metallicFactor": 1.0}, {})
+
+`exact_image` evaluates a plate's exact image through Mitsuba (any BSDF, the plugins too).
 """
 
 import base64
@@ -46,3 +48,22 @@ def write(path, name, pbr, extensions):
                      {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": _sun_rotation()}]}
     with open(path, "w") as f:
         json.dump(doc, f)
+
+
+def exact_image(mi, d, sun, w, h):
+    """The exact image (h × w × rgb) of the plate in the Mitsuba scene dict `d` (its files still
+    on disk) under the `sun` (gltf_scene's light): at each pixel's centre, the BSDF (with its
+    cosine, as Mitsuba's `eval` gives it) from the camera to the sun times the sun's irradiance."""
+    import drjit as dr
+    import numpy as np
+
+    scene = mi.load_dict(d)
+    sensor = scene.sensors()[0]
+    idx = dr.arange(mi.UInt32, w * h)
+    pos = mi.Point2f((mi.Float(idx % w) + 0.5) / w, (mi.Float(idx // w) + 0.5) / h)
+    ray, _ = sensor.sample_ray(0.0, 0.5, pos, mi.Point2f(0.5))
+    si = scene.ray_intersect(ray)
+    to_sun = si.to_local(mi.Vector3f(*(-float(c) for c in sun.direction)))
+    value = np.array(si.bsdf().eval(mi.BSDFContext(), si, to_sun, si.is_valid()))
+    value = value if value.shape[0] == w * h else value.T  # (pixels, rgb)
+    return (value * np.array(sun.intensity)).reshape(h, w, 3)
