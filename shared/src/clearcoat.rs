@@ -82,18 +82,14 @@ pub fn probability(clearcoat: f32, cos_o: f32) -> f32 {
 }
 
 /// `f_coat(wo, wi)` (local, both above the surface; else 0) of the rough layer, without its
-/// weight; 0 for a smooth one, whose mirror only [`sample`] produces.
+/// weight (`crate::microfacet::reflection`); 0 for a smooth one, whose mirror only [`sample`]
+/// produces.
 #[inline]
 pub fn eval(alpha: f32, wo: Vec3, wi: Vec3) -> f32 {
     if !(wo.z > 0.0 && wi.z > 0.0) || alpha < crate::bsdf::SMOOTH_ALPHA {
         return 0.0;
     }
-    let h = wo + wi;
-    if !(h.length_squared() > 0.0) {
-        return 0.0;
-    }
-    crate::microfacet::ggx_d(alpha, h.normalize()) * crate::microfacet::smith_g(alpha, wo.z, wi.z)
-        / (4.0 * wo.z * wi.z)
+    crate::microfacet::reflection(alpha, wo, wi)
 }
 
 /// The solid-angle density with which [`sample`] picks `wi` (local) from a rough layer given
@@ -103,22 +99,19 @@ pub fn pdf(alpha: f32, wo: Vec3, wi: Vec3) -> f32 {
     if !(wo.z > 0.0 && wi.z > 0.0) || alpha < crate::bsdf::SMOOTH_ALPHA {
         return 0.0;
     }
-    let h = (wo + wi).normalize();
-    crate::microfacet::visible_normal_pdf(alpha, wo, h) / (4.0 * wo.dot(h))
+    crate::microfacet::reflection_pdf(alpha, wo, wi)
 }
 
 /// A direction from the layer for `wo` (local, `wo.z` > 0) with `u` ∈ [0,1)²: the mirror of a
 /// smooth layer, else a visible normal's reflection (Heitz 2018); None below the surface.
 #[inline]
 pub fn sample(alpha: f32, wo: Vec3, u: Vec2) -> Option<Vec3> {
-    let m = if alpha < crate::bsdf::SMOOTH_ALPHA {
-        Vec3::Z
-    } else {
-        crate::microfacet::sample_visible_normal(alpha, wo, u)
-    };
-    let wi = 2.0 * wo.dot(m) * m - wo;
+    if alpha >= crate::bsdf::SMOOTH_ALPHA {
+        return crate::microfacet::sample_reflection(alpha, wo, u);
+    }
+    let wi = Vec3::new(-wo.x, -wo.y, wo.z);
     if wi.z > 0.0 {
-        Some(wi.normalize())
+        Some(wi)
     } else {
         None
     }

@@ -137,14 +137,7 @@ pub fn eval(b: &MetallicRoughness, wo: Vec3, wi: Vec3) -> Vec3 {
     if b.alpha < crate::bsdf::SMOOTH_ALPHA {
         return diffuse;
     }
-    let denominator = 4.0 * wo.z * wi.z;
-    if !(denominator > 0.0) {
-        return diffuse;
-    }
-    let s = crate::microfacet::ggx_d(b.alpha, h.normalize())
-        * crate::microfacet::smith_g(b.alpha, wo.z, wi.z)
-        / denominator;
-    diffuse + b.specular_fresnel(c) * s
+    diffuse + b.specular_fresnel(c) * crate::microfacet::reflection(b.alpha, wo, wi)
 }
 
 /// The solid-angle density with which [`sample`] picks `wi` given `wo` (local), without the
@@ -160,9 +153,7 @@ pub fn pdf(b: &MetallicRoughness, wo: Vec3, wi: Vec3) -> f32 {
     if p == 0.0 || b.alpha < crate::bsdf::SMOOTH_ALPHA {
         return diffuse;
     }
-    let h = (wo + wi).normalize();
-    let specular = crate::microfacet::visible_normal_pdf(b.alpha, wo, h) / (4.0 * wo.dot(h));
-    diffuse + p * specular
+    diffuse + p * crate::microfacet::reflection_pdf(b.alpha, wo, wi)
 }
 
 /// A direction sampled by [`sample`] (local).
@@ -194,12 +185,10 @@ pub fn sample(b: &MetallicRoughness, wo: Vec3, u: Vec2) -> LocalSample {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
             return LocalSample { wi, f: b.specular_fresnel(wo.z), pdf: p, delta: true, found: true };
         }
-        let m = crate::microfacet::sample_visible_normal(b.alpha, wo, v);
-        let wi = 2.0 * wo.dot(m) * m - wo;
-        if !(wi.z > 0.0) {
+        let Some(wi) = crate::microfacet::sample_reflection(b.alpha, wo, v) else {
             return none;
-        }
-        return LocalSample { wi: wi.normalize(), f: Vec3::ZERO, pdf: 0.0, delta: false, found: true };
+        };
+        return LocalSample { wi, f: Vec3::ZERO, pdf: 0.0, delta: false, found: true };
     }
     let v = Vec2::new(((u.x - p) / (1.0 - p)).min(1.0 - f32::EPSILON), u.y);
     let r = v.x.sqrt();

@@ -6,7 +6,9 @@
 //! - `D(m) = α² / (π ((α² − 1) cos²θ_m + 1)²)` (normalised: ∫ D cos θ_m dω_m = 1);
 //! - `Λ(w) = (√(1 + α² tan²θ) − 1) / 2`, `G1(w) = 1 / (1 + Λ(w))`, and the height-correlated
 //!   `G(wo, wi) = 1 / (1 + Λ(wo) + Λ(wi))` (Heitz 2014);
-//! - the visible normals' density `D_wo(m) = G1(wo) max(0, wo·m) D(m) / cos θ_o`.
+//! - the visible normals' density `D_wo(m) = G1(wo) max(0, wo·m) D(m) / cos θ_o`;
+//! - the reflection lobe `D(h) G / (4 cos θ_o cos θ_i)`, sampled by reflecting `wo` about a
+//!   visible normal, with density `D_wo(h) / (4 wo·h)`.
 
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
@@ -80,6 +82,40 @@ pub fn sample_visible_normal(alpha: f32, wo: Vec3, u: Vec2) -> Vec3 {
     let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
     let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
     Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(1e-7)).normalize()
+}
+
+/// The GGX reflection lobe without a Fresnel factor, `D(h) G(wo, wi) / (4 cos θ_o cos θ_i)`,
+/// h = normalize(wo + wi), for `wo` and `wi` local and above the surface (the callers' test); 0
+/// where the cosines' product underflows. glTF's specular term (its BRDF's, times Fresnel; the
+/// clear coat's, as it is).
+#[inline]
+pub fn reflection(alpha: f32, wo: Vec3, wi: Vec3) -> f32 {
+    let denominator = 4.0 * wo.z * wi.z;
+    if !(denominator > 0.0) {
+        return 0.0;
+    }
+    ggx_d(alpha, (wo + wi).normalize()) * smith_g(alpha, wo.z, wi.z) / denominator
+}
+
+/// The solid-angle density of [`sample_reflection`]'s `wi` given `wo` (local, both above the
+/// surface): the visible normal's density over the reflection's Jacobian `4 wo·h`.
+#[inline]
+pub fn reflection_pdf(alpha: f32, wo: Vec3, wi: Vec3) -> f32 {
+    let h = (wo + wi).normalize();
+    visible_normal_pdf(alpha, wo, h) / (4.0 * wo.dot(h))
+}
+
+/// `wo` (local, `wo.z` > 0) reflected about a visible normal sampled with `u` ∈ [0,1)²; None
+/// where the reflection falls below the surface.
+#[inline]
+pub fn sample_reflection(alpha: f32, wo: Vec3, u: Vec2) -> Option<Vec3> {
+    let m = sample_visible_normal(alpha, wo, u);
+    let wi = 2.0 * wo.dot(m) * m - wo;
+    if wi.z > 0.0 {
+        Some(wi.normalize())
+    } else {
+        None
+    }
 }
 
 #[cfg(all(test, not(target_arch = "spirv")))]

@@ -51,6 +51,22 @@ fn unit_scale() -> [f32; 2] {
     [1.0, 1.0]
 }
 
+/// A textureInfo's `KHR_texture_transform` read from its JSON (`slot` its glTF path).
+fn json_transform(
+    value: Option<&serde_json::Value>,
+    slot: &str,
+    source: &Source,
+) -> Result<Option<Transform>, SceneError> {
+    value
+        .map(|v| {
+            serde_json::from_value::<Transform>(v.clone()).map_err(|e| SceneError::Malformed {
+                path: source.name.into(),
+                what: format!("{slot}.extensions.KHR_texture_transform: {e}"),
+            })
+        })
+        .transpose()
+}
+
 /// What a texture is read from.
 pub struct Source<'a> {
     #[allow(missing_docs)] // the document
@@ -93,15 +109,7 @@ impl TextureStore {
         slot: &str,
         warnings: &mut Vec<String>,
     ) -> Result<(TextureRef, f32), SceneError> {
-        let transform = match normal.extension_value("KHR_texture_transform") {
-            Some(value) => Some(serde_json::from_value::<Transform>(value.clone()).map_err(|e| {
-                SceneError::Malformed {
-                    path: source.name.into(),
-                    what: format!("{slot}.extensions.KHR_texture_transform: {e}"),
-                }
-            })?),
-            None => None,
-        };
+        let transform = json_transform(normal.extension_value("KHR_texture_transform"), slot, source)?;
         let r = self.reference_parts(
             source,
             normal.texture().index(),
@@ -139,13 +147,11 @@ impl TextureStore {
                 v.as_u64().ok_or_else(|| malformed(format!("{slot}.texCoord: {v} is not an index")))?
             }
         };
-        let transform = match info.get("extensions").and_then(|e| e.get("KHR_texture_transform")) {
-            Some(value) => Some(
-                serde_json::from_value::<Transform>(value.clone())
-                    .map_err(|e| malformed(format!("{slot}.extensions.KHR_texture_transform: {e}")))?,
-            ),
-            None => None,
-        };
+        let transform = json_transform(
+            info.get("extensions").and_then(|e| e.get("KHR_texture_transform")),
+            slot,
+            source,
+        )?;
         let tex_coord = u32::try_from(tex_coord).unwrap_or(u32::MAX);
         self.reference_parts(source, index as usize, tex_coord, transform, slot, warnings)
     }
