@@ -21,6 +21,9 @@ import math
 import drjit as dr
 import mitsuba as mi
 
+# Both sides, as smlt's surfaces: the glTF plugin's turn of V and L to V's side.
+from mitsuba_gltf import SmltGltf
+
 NAME = "smlt_coat"
 SMOOTH_ALPHA = 1e-3
 P_LAYER = 0.5
@@ -45,14 +48,6 @@ class SmltCoat(mi.BSDF):
         x = dr.clip(1.0 - dr.abs(v.z), 0.0, 1.0)
         return self.clearcoat * (0.04 + 0.96 * x * x * x * x * x)
 
-    @staticmethod
-    def _sided(si, wo):
-        """V and L turned to the side V lies on, and whether L is on it too."""
-        side = dr.select(si.wi.z >= 0.0, 1.0, -1.0)
-        v = mi.Vector3f(si.wi.x, si.wi.y, side * si.wi.z)
-        l = mi.Vector3f(wo.x, wo.y, side * wo.z)
-        return v, l
-
     def _layer(self, v, l):
         """f_layer for both directions above the surface (0 for a smooth layer)."""
         if self.smooth:
@@ -71,14 +66,14 @@ class SmltCoat(mi.BSDF):
         return self.ggx.pdf(v, h) / (4.0 * dr.dot(v, h))
 
     def eval(self, ctx, si, wo, active=True):
-        v, l = self._sided(si, wo)
+        v, l = SmltGltf._local(si, wo)
         w = self._weight(v)
         above = active & (v.z > 0.0) & (l.z > 0.0)
         layer = dr.select(above, w * self._layer(v, l) * l.z, 0.0)
         return self.base.eval(ctx, si, wo, active) * (1.0 - w) + layer
 
     def pdf(self, ctx, si, wo, active=True):
-        v, l = self._sided(si, wo)
+        v, l = SmltGltf._local(si, wo)
         above = active & (v.z > 0.0) & (l.z > 0.0)
         layer = dr.select(above, self._layer_pdf(v, l), 0.0)
         return (1.0 - P_LAYER) * self.base.pdf(ctx, si, wo, active) + P_LAYER * layer
