@@ -94,11 +94,12 @@ fn unsupported_content_is_an_error_or_a_warning() {
     let dir = std::env::temp_dir().join(format!("smlt-texture-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     image::RgbImage::from_pixel(1, 1, image::Rgb([200, 10, 10])).save(dir.join("red.png")).unwrap();
-    std::fs::write(dir.join("not.webp"), b"RIFF\x10\0\0\0WEBPVP8 ").unwrap();
+    // A KTX2 file's identifier (KHR_texture_basisu's images), no more.
+    std::fs::write(dir.join("basis.ktx2"), b"\xabKTX 20\xbb\r\n\x1a\n").unwrap();
     let mut doc = one_light_doc();
     doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
     doc["textures"] = json!([{"source": 0}, {"source": 1}]);
-    doc["images"] = json!([{"uri": "red.png"}, {"uri": "not.webp"}]);
+    doc["images"] = json!([{"uri": "red.png"}, {"uri": "basis.ktx2"}]);
     std::fs::write(dir.join("textured.gltf"), doc.to_string()).unwrap();
     let err = SceneData::load(&dir.join("textured.gltf")).unwrap_err().to_string();
     assert!(err.contains("meshes[0].primitives[0]") && err.contains("TEXCOORD_0"), "{err}");
@@ -951,4 +952,363 @@ fn clearcoat_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
             other => panic!("{what}: {:?}", other.map(|_| "loaded")),
         }
     }
+}
+
+/// The bytes of buffer `b` of `doc` (a `data:` URI).
+fn buffer_bytes(doc: &Value, b: usize) -> Vec<u8> {
+    buffer_of_uri(doc["buffers"][b]["uri"].as_str().unwrap())
+}
+
+/// The floats of accessor `k` of `doc` (float components, from a `data:` buffer).
+fn accessor_floats(doc: &Value, k: usize) -> Vec<f32> {
+    let a = &doc["accessors"][k];
+    assert_eq!(a["componentType"], 5126);
+    let view = &doc["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+    let bytes = buffer_bytes(doc, view["buffer"].as_u64().unwrap() as usize);
+    let n: usize = match a["type"].as_str().unwrap() {
+        "VEC2" => 2,
+        "VEC3" => 3,
+        _ => 4,
+    };
+    let stride = view["byteStride"].as_u64().map_or(4 * n, |s| s as usize);
+    let start =
+        view["byteOffset"].as_u64().unwrap_or(0) as usize + a["byteOffset"].as_u64().unwrap_or(0) as usize;
+    (0..a["count"].as_u64().unwrap() as usize)
+        .flat_map(|i| (0..n).map(move |c| start + i * stride + 4 * c))
+        .map(|o| f32::from_le_bytes(bytes[o..o + 4].try_into().unwrap()))
+        .collect()
+}
+
+/// `doc` (a builder's document, floats in `data:` buffers) as gltfpack writes it with
+/// `KHR_mesh_quantization`, from the spec's text: positions as unsigned shorts, not normalised,
+/// on a grid of `step` from `origin`, which a new child node of each mesh's node undoes (its
+/// translation and scale); normals and tangents as normalised signed bytes, each element padded
+/// to 4 bytes; TEXCOORD_0 as normalised signed shorts (the builder's planar ones lie in [−1, 1]).
+fn quantized(doc: &Value, origin: Vec3, step: f32) -> Value {
+    use base64::Engine;
+    let mut out = doc.clone();
+    let mut bytes: Vec<u8> = Vec::new();
+    let buffer = out["buffers"].as_array().unwrap().len();
+    let meshes = out["meshes"].as_array().unwrap().len();
+    for m in 0..meshes {
+        let primitives = out["meshes"][m]["primitives"].as_array().unwrap().len();
+        for p in 0..primitives {
+            let attributes: Vec<(String, usize)> = out["meshes"][m]["primitives"][p]["attributes"]
+                .as_object()
+                .unwrap()
+                .iter()
+                .map(|(k, v)| (k.clone(), v.as_u64().unwrap() as usize))
+                .collect();
+            for (name, k) in attributes {
+                let floats = accessor_floats(doc, k);
+                // (components, component type, normalised, element stride in bytes)
+                let (n, component, normalized, stride) = match name.as_str() {
+                    "POSITION" => (3, 5123, false, 8),
+                    "NORMAL" => (3, 5120, true, 4),
+                    "TANGENT" => (4, 5120, true, 4),
+                    "TEXCOORD_0" => (2, 5122, true, 4),
+                    _ => continue,
+                };
+                let encode = |c: usize, x: f32| -> Vec<u8> {
+                    match component {
+                        5123 => {
+                            let q = ((x - origin[c]) / step).round();
+                            assert!((0.0..65536.0).contains(&q), "{x} off the grid's range");
+                            (q as u16).to_le_bytes().to_vec()
+                        }
+                        5120 => vec![(x * 127.0).round() as i8 as u8],
+                        _ => {
+                            assert!((-1.0..=1.0).contains(&x), "coordinate {x} outside [-1, 1]");
+                            ((x * 32767.0).round() as i16).to_le_bytes().to_vec()
+                        }
+                    }
+                };
+                bytes.resize(bytes.len().next_multiple_of(4), 0);
+                let offset = bytes.len();
+                for element in floats.chunks(n) {
+                    let mut e: Vec<u8> =
+                        element.iter().enumerate().flat_map(|(c, &x)| encode(c, x)).collect();
+                    e.resize(stride, 0);
+                    bytes.extend(e);
+                }
+                let view = out["bufferViews"].as_array().unwrap().len();
+                out["bufferViews"].as_array_mut().unwrap().push(json!({
+                    "buffer": buffer, "byteOffset": offset, "byteLength": bytes.len() - offset, "byteStride": stride
+                }));
+                out["accessors"][k] = json!({
+                    "bufferView": view, "componentType": component, "normalized": normalized,
+                    "count": floats.len() / n, "type": format!("VEC{n}")
+                });
+                if name == "POSITION" {
+                    // The spec's min and max, in the accessor's own (integer) values.
+                    let q: Vec<u16> = bytes[offset..]
+                        .chunks(8)
+                        .flat_map(|e| e[..6].chunks(2).map(|c| u16::from_le_bytes([c[0], c[1]])))
+                        .collect();
+                    let axis = |c: usize, f: fn(u16, u16) -> u16| {
+                        q.iter().skip(c).step_by(3).copied().reduce(f).unwrap()
+                    };
+                    out["accessors"][k]["min"] = json!([0, 1, 2].map(|c| axis(c, u16::min)));
+                    out["accessors"][k]["max"] = json!([0, 1, 2].map(|c| axis(c, u16::max)));
+                }
+            }
+        }
+    }
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&bytes)
+    );
+    out["buffers"].as_array_mut().unwrap().push(json!({"byteLength": bytes.len(), "uri": uri}));
+    let nodes = out["nodes"].as_array().unwrap().len();
+    for i in 0..nodes {
+        if let Some(mesh) = out["nodes"][i].as_object_mut().unwrap().remove("mesh") {
+            let child = out["nodes"].as_array().unwrap().len();
+            out["nodes"].as_array_mut().unwrap().push(json!({
+                "mesh": mesh, "translation": origin.to_array(), "scale": [step, step, step]
+            }));
+            out["nodes"][i]["children"] = json!([child]);
+        }
+    }
+    out["extensionsUsed"] = json!(["KHR_mesh_quantization"]);
+    out["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
+    out
+}
+
+/// `KHR_mesh_quantization` (positions as unsigned shorts under a dequantising node, normals and
+/// tangents as normalised bytes, coordinates as normalised shorts) loads as the float file it
+/// was made from: the same triangles, normals, coordinates, tangent frames and shading normal,
+/// through a turned node; a file that uses the extension without requiring it, or integers
+/// without the extension, is refused in one line.
+#[test]
+fn quantized_attributes_load_as_the_floats_they_encode() {
+    let mut float = with_tangents(normal_mapped_doc(0.5, true), [0.0, 0.0, 1.0, 1.0]);
+    let mesh_node = float["nodes"].as_array().unwrap().iter().position(|n| n.get("mesh").is_some()).unwrap();
+    let half = std::f32::consts::FRAC_PI_4 / 2.0;
+    float["nodes"][mesh_node]["rotation"] = json!([0.0, half.sin(), 0.0, half.cos()]);
+    // The floor's corners (±1) lie on the grid: the positions decode exactly.
+    let quantized = quantized(&float, Vec3::splat(-1.0), 1.0 / 1024.0);
+    let (a, b) = (load(&float).unwrap(), load(&quantized).unwrap());
+    assert!(b.warnings.is_empty(), "{:?}", b.warnings);
+    assert_eq!(a.triangles.len(), b.triangles.len());
+    for (s, t) in a.triangles.iter().zip(&b.triangles) {
+        for (u, v) in [(s.v0, t.v0), (s.v1, t.v1), (s.v2, t.v2)] {
+            assert!((Vec3::from_array(u) - Vec3::from_array(v)).length() < 1e-6, "{u:?} against {v:?}");
+        }
+    }
+    let close =
+        |x: &[f32], y: &[f32], tolerance: f32| x.iter().zip(y).all(|(p, q)| (p - q).abs() <= tolerance);
+    for (s, t) in a.normals.iter().zip(&b.normals) {
+        assert!(close(&s.n, &t.n, 1e-6), "{:?} against {:?}", s.n, t.n);
+    }
+    for (s, t) in a.texcoords.iter().zip(&b.texcoords) {
+        assert!(close(&s.uv, &t.uv, 1e-6), "{:?} against {:?}", s.uv, t.uv);
+    }
+    assert!(a.tangents.iter().zip(&b.tangents).all(|(s, t)| close(&s.t, &t.t, 1e-6)));
+    let (na, nb) = (floor_normal(&a), floor_normal(&b));
+    assert!((na.shading - nb.shading).length() < 1e-6, "{} against {}", na.shading, nb.shading);
+    assert!(na.shading.dot(Vec3::Y) < 0.99, "the normal texture bends the floor's normal");
+    // The extension used but not required; integers without it.
+    let mut optional = quantized.clone();
+    optional["extensionsRequired"] = json!([]);
+    let err = load(&optional).unwrap_err().to_string();
+    assert!(err.contains("KHR_mesh_quantization is used but not required"), "{err}");
+    let mut undeclared = quantized.clone();
+    undeclared.as_object_mut().unwrap().remove("extensionsUsed");
+    undeclared.as_object_mut().unwrap().remove("extensionsRequired");
+    let err = load(&undeclared).unwrap_err().to_string();
+    assert!(
+        err.contains("must be a VEC3 of floats (integers need KHR_mesh_quantization, used and required)"),
+        "{err}"
+    );
+    assert!(!err.contains('\n'));
+}
+
+/// A `data:` URI of `bytes` as `mime`.
+fn data_uri(mime: &str, bytes: &[u8]) -> String {
+    use base64::Engine;
+    format!("data:{mime};base64,{}", base64::engine::general_purpose::STANDARD.encode(bytes))
+}
+
+/// `EXT_texture_webp`: a texture with the extension reads its WebP image (lossless, and lossy
+/// from the Khronos validator's samples), not its fallback `source`, with or without that
+/// fallback and with the extension required; a WebP source that names no image, or WebP data
+/// that does not decode, is refused in one line.
+#[test]
+fn webp_textures_read_the_extensions_image() {
+    let base: Value = serde_json::from_str(include_str!("../scenes/textured.gltf")).unwrap();
+    let plain = load(&base).unwrap();
+    // Texture 0 (image 0, the floor's checker) as a lossless WebP, image 4.
+    let png = buffer_of_uri(base["images"][0]["uri"].as_str().unwrap());
+    let rgba = image::load_from_memory(&png).unwrap().to_rgba8();
+    let mut webp = Vec::new();
+    image::codecs::webp::WebPEncoder::new_lossless(&mut webp)
+        .encode(&rgba, rgba.width(), rgba.height(), image::ExtendedColorType::Rgba8)
+        .unwrap();
+    let with_webp = |webp: &[u8], fallback: bool, required: bool| {
+        let mut doc = base.clone();
+        doc["images"].as_array_mut().unwrap().push(json!({"uri": data_uri("image/webp", webp)}));
+        doc["textures"][0]["extensions"] = json!({"EXT_texture_webp": {"source": 4}});
+        if fallback {
+            // A fallback of another colour, which a client with the extension does not read.
+            let mut magenta = Vec::new();
+            image::RgbaImage::from_pixel(1, 1, image::Rgba([255, 0, 255, 255]))
+                .write_to(&mut std::io::Cursor::new(&mut magenta), image::ImageFormat::Png)
+                .unwrap();
+            doc["images"][0]["uri"] = json!(data_uri("image/png", &magenta));
+        } else {
+            doc["textures"][0].as_object_mut().unwrap().remove("source");
+        }
+        doc["extensionsUsed"].as_array_mut().unwrap().push(json!("EXT_texture_webp"));
+        if required {
+            doc["extensionsRequired"] = json!(["EXT_texture_webp"]);
+        }
+        doc
+    };
+    for (fallback, required) in [(true, false), (false, true), (true, true)] {
+        let scene = load(&with_webp(&webp, fallback, required)).unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        assert_eq!(scene.textures, plain.textures, "fallback {fallback}, required {required}");
+        assert_eq!(scene.texels, plain.texels, "fallback {fallback}, required {required}");
+    }
+    // Lossy (VP8) and extended (VP8X, with alpha) WebP: the validator's red samples.
+    for (file, alpha) in [("VP8_red.webp", 255), ("VP8X_red_transparent.webp", 128)] {
+        let bytes = std::fs::read(format!("tests/khronos/ext/EXT_texture_webp/data/image/{file}")).unwrap();
+        let scene = load(&with_webp(&bytes, true, false)).unwrap();
+        let floor = scene.textures[0];
+        let texel = scene.texels[floor.offset as usize].to_le_bytes();
+        assert!(texel[0] > 240 && texel[1] < 16 && texel[2] < 16 && texel[3] == alpha, "{file}: {texel:?}");
+    }
+    let mut unresolved = with_webp(&webp, true, false);
+    unresolved["textures"][0]["extensions"]["EXT_texture_webp"]["source"] = json!(9);
+    let err = load(&unresolved).unwrap_err().to_string();
+    assert!(err.contains("textures[0].extensions.EXT_texture_webp.source: 9 names no image"), "{err}");
+    let err = load(&with_webp(&webp[..webp.len() / 2], true, false)).unwrap_err().to_string();
+    assert!(err.contains("images[4]: its WebP data does not decode"), "{err}");
+    assert!(!err.contains('\n'));
+}
+
+/// The bytes of a base64 `data:` URI.
+fn buffer_of_uri(uri: &str) -> Vec<u8> {
+    use base64::Engine;
+    base64::engine::general_purpose::STANDARD.decode(uri.split_once(',').unwrap().1).unwrap()
+}
+
+/// `doc` (one of [`quantized`]'s, its data in `data:` buffers) as gltfpack `-c` writes it: every
+/// view the accessors read compressed with meshoptimizer's encoders (`EXT_meshopt_compression`:
+/// vertex attributes as ATTRIBUTES, indices as INDICES, which keeps their order) into one new
+/// buffer, each view's own buffer a fallback with no data.
+fn compressed(doc: &Value) -> Value {
+    let mut out = doc.clone();
+    let mut packed: Vec<u8> = Vec::new();
+    let fallback = out["buffers"].as_array().unwrap().len();
+    let data = fallback + 1;
+    let mut fallback_length = 0;
+    let accessors = out["accessors"].as_array().unwrap().clone();
+    for a in &accessors {
+        let v = a["bufferView"].as_u64().unwrap() as usize;
+        if out["bufferViews"][v].get("extensions").is_some() {
+            continue; // shared by another accessor, compressed already
+        }
+        let view = out["bufferViews"][v].clone();
+        let bytes = buffer_bytes(doc, view["buffer"].as_u64().unwrap() as usize);
+        let (offset, length) = (
+            view["byteOffset"].as_u64().unwrap_or(0) as usize,
+            view["byteLength"].as_u64().unwrap() as usize,
+        );
+        let raw = &bytes[offset..offset + length];
+        let index = a["type"] == "SCALAR";
+        let stride = match view["byteStride"].as_u64() {
+            Some(s) => s as usize,
+            None if index => {
+                if a["componentType"] == 5125 {
+                    4
+                } else {
+                    2
+                }
+            }
+            None => panic!("an attribute view without a stride"),
+        };
+        let count = length / stride;
+        let (encoded, mode) = if index {
+            let indices: Vec<u32> = match stride {
+                2 => raw.chunks(2).map(|b| u16::from_le_bytes([b[0], b[1]]) as u32).collect(),
+                _ => raw.chunks(4).map(|b| u32::from_le_bytes(b.try_into().unwrap())).collect(),
+            };
+            let vertices = indices.iter().max().map_or(0, |&m| m as usize + 1);
+            (meshopt::encoding::encode_index_sequence(&indices, vertices).unwrap(), "INDICES")
+        } else {
+            // One element a row of `stride` bytes, as a slice of u32 words (strides are multiples of 4).
+            let words: Vec<u32> = raw.chunks(4).map(|b| u32::from_le_bytes(b.try_into().unwrap())).collect();
+            let encoded = match stride {
+                4 => meshopt::encoding::encode_vertex_buffer(&words).unwrap(),
+                8 => meshopt::encoding::encode_vertex_buffer(words.as_chunks::<2>().0).unwrap(),
+                12 => meshopt::encoding::encode_vertex_buffer(words.as_chunks::<3>().0).unwrap(),
+                16 => meshopt::encoding::encode_vertex_buffer(words.as_chunks::<4>().0).unwrap(),
+                s => panic!("stride {s}"),
+            };
+            (encoded, "ATTRIBUTES")
+        };
+        packed.resize(packed.len().next_multiple_of(4), 0);
+        let at = packed.len();
+        packed.extend(&encoded);
+        out["bufferViews"][v] = json!({
+            "buffer": fallback, "byteOffset": fallback_length, "byteLength": length,
+            "extensions": {"EXT_meshopt_compression": {
+                "buffer": data, "byteOffset": at, "byteLength": encoded.len(), "byteStride": stride,
+                "count": count, "mode": mode
+            }}
+        });
+        if !index {
+            out["bufferViews"][v]["byteStride"] = json!(stride);
+        }
+        fallback_length += length.next_multiple_of(4);
+    }
+    out["buffers"].as_array_mut().unwrap().push(json!({
+        "byteLength": fallback_length, "extensions": {"EXT_meshopt_compression": {"fallback": true}}
+    }));
+    out["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"byteLength": packed.len(), "uri": data_uri("application/octet-stream", &packed)}));
+    for list in ["extensionsUsed", "extensionsRequired"] {
+        out[list].as_array_mut().unwrap().push(json!("EXT_meshopt_compression"));
+    }
+    out
+}
+
+/// `EXT_meshopt_compression`: a file whose views are all compressed, its fallback buffer without
+/// data, loads as the uncompressed file (the same triangles, normals, coordinates, tangent
+/// frames); a compressed stream cut short, or a view that breaks the extension's rules, is
+/// refused in one line by its path.
+#[test]
+fn meshopt_compressed_views_load_as_the_views_they_encode() {
+    let float = with_tangents(normal_mapped_doc(0.5, true), [0.0, 0.0, 1.0, 1.0]);
+    let plain = quantized(&float, Vec3::splat(-1.0), 1.0 / 1024.0);
+    let packed = compressed(&plain);
+    let (a, b) = (load(&plain).unwrap(), load(&packed).unwrap());
+    assert!(b.warnings.is_empty(), "{:?}", b.warnings);
+    assert_eq!(a.triangles, b.triangles);
+    assert_eq!(a.normals, b.normals);
+    assert_eq!(a.texcoords, b.texcoords);
+    assert_eq!(a.tangents, b.tangents);
+    // The view of the positions (accessor 0's): its stream cut short, its count wrong.
+    let v = packed["accessors"][0]["bufferView"].as_u64().unwrap() as usize;
+    let mut short = packed.clone();
+    let n = short["bufferViews"][v]["extensions"]["EXT_meshopt_compression"]["byteLength"].as_u64().unwrap();
+    short["bufferViews"][v]["extensions"]["EXT_meshopt_compression"]["byteLength"] = json!(n / 2);
+    let err = load(&short).unwrap_err().to_string();
+    assert!(
+        err.contains(&format!(
+            "bufferViews[{v}].extensions.EXT_meshopt_compression: its Attributes data does not decode"
+        )),
+        "{err}"
+    );
+    let mut count = packed.clone();
+    count["bufferViews"][v]["extensions"]["EXT_meshopt_compression"]["count"] = json!(1);
+    let err = load(&count).unwrap_err().to_string();
+    assert!(
+        err.contains(&format!("bufferViews[{v}].extensions.EXT_meshopt_compression.count 1 × byteStride")),
+        "{err}"
+    );
+    assert!(!err.contains('\n'));
 }

@@ -5,7 +5,8 @@
 //! - triangle meshes (primitive mode TRIANGLES; any other mode is an error) with node
 //!   transforms, matrix or TRS, of the default scene (or the first), and their vertex normals
 //!   (`NORMAL`, the shading normals: `shared::normals`; without them a mesh is flat, as the
-//!   spec says);
+//!   spec says); attributes as floats or as `KHR_mesh_quantization`'s integers (`attributes`),
+//!   their views compressed or not (`EXT_meshopt_compression`: `meshopt`);
 //! - materials: glTF's metallic-roughness BRDF (`baseColorFactor`, `metallicFactor`,
 //!   `roughnessFactor`, `KHR_materials_specular`, `KHR_materials_ior`), glass
 //!   (`KHR_materials_transmission`, `_volume`), the clear coat (`KHR_materials_clearcoat`, its
@@ -13,9 +14,10 @@
 //!   `KHR_materials_emissive_strength` → emission (one-sided, along the triangle's
 //!   counter-clockwise normal); the Phong exponent from the material's extras, key
 //!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness,
-//!   emissive and normal textures (`textures`), a normal texture in the mesh's `TANGENT`s or
-//!   MikkTSpace's (`tangents`). Other material extensions and textures change the image but are
-//!   not modelled: each is named in a printed warning;
+//!   emissive and normal textures (`textures`; PNG, JPEG, and WebP with `EXT_texture_webp`), a
+//!   normal texture in the mesh's `TANGENT`s or MikkTSpace's (`tangents`). Other material
+//!   extensions and textures change the image but are not modelled: each is named in a printed
+//!   warning;
 //! - punctual lights (`KHR_lights_punctual`: point, spot, directional) on their nodes, in
 //!   Blender's units (`lights`);
 //! - perspective cameras, in the order of a depth-first walk of the scene: view 1 is the first
@@ -28,8 +30,10 @@
 //! [`EnvironmentSpec`]): it is picked with the file's lights, its light subpaths start on the
 //! same bounding sphere's disks as a directional light's.
 
+mod attributes;
 mod environment;
 mod lights;
+mod meshopt;
 mod parse;
 mod read;
 mod tangents;

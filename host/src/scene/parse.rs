@@ -55,14 +55,28 @@ pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, Sc
         }
         None => load(format!("invalid glTF: {what}")),
     })?;
-    let used = used_buffers(&root);
+    let views = used_views(&root);
+    let used: Vec<usize> =
+        views.iter().filter_map(|&v| root.buffer_views.get(v)).map(super::meshopt::source_buffer).collect();
     let doc = gltf::Document::from_json_without_validation(root);
-    let (buffers, placeholders) = read_buffers(&doc, base, blob, &used, name)?;
+    let (mut buffers, placeholders) = read_buffers(&doc, base, blob, &used, name)?;
+    // Compressed views decoded into buffers of their own, which the rest reads as any view.
+    let mut root = doc.into_json();
+    super::meshopt::decompress(&mut root, &mut buffers, &views)
+        .map_err(|what| SceneError::Malformed { path: name.into(), what })?;
+    let doc = gltf::Document::from_json_without_validation(root);
     Ok(Parsed { doc, buffers, placeholders, warnings })
 }
 
-/// Extensions that smlt reads from the document's JSON, which the gltf crate does not know.
-const READ_FROM_JSON: [&str; 1] = ["KHR_materials_clearcoat"];
+/// Extensions that smlt reads itself, which the gltf crate does not know: the clear coat from
+/// the document's JSON, quantised attributes through `super::attributes`, WebP images in
+/// `super::textures`, compressed views in `super::meshopt`.
+const READ_BY_SMLT: [&str; 4] = [
+    "KHR_materials_clearcoat",
+    super::validate::MESH_QUANTIZATION,
+    super::textures::WEBP,
+    super::meshopt::EXTENSION,
+];
 
 /// What the gltf crate's types cannot hold but the spec allows, made what they can (see the
 /// module doc).
@@ -82,10 +96,6 @@ fn normalise(value: &mut Value, warnings: &mut Vec<String>) {
         for scene in scenes.iter_mut().filter_map(Value::as_object_mut) {
             scene.entry("nodes").or_insert_with(|| Value::Array(Vec::new()));
         }
-    }
-    if let Some(required) = value.get_mut("extensionsRequired").and_then(Value::as_array_mut) {
-        // smlt reads these from the JSON itself; the gltf crate's check would refuse them.
-        required.retain(|e| !e.as_str().is_some_and(|e| READ_FROM_JSON.contains(&e)));
     }
     if let Some(object) = value.as_object_mut() {
         if let Some(animations) = object.remove("animations") {
@@ -178,6 +188,10 @@ fn validate(root: &gltf::json::Root) -> Result<(), String> {
                 .and_then(|rest| rest.split(']').next())
                 .and_then(|i| i.parse::<usize>().ok())
         };
+        if path.starts_with("extensionsRequired[") && matches!(error, Error::Unsupported) {
+            // Those smlt reads itself, which the gltf crate does not know.
+            return READ_BY_SMLT.iter().any(|e| path.ends_with(&format!("= \"{e}\"")));
+        }
         if index("accessors[").is_some() {
             // Zeros (or sparse values) without a view (and so every stub `normalise` left).
             return path.ends_with("].bufferView") && matches!(error, Error::Missing);
@@ -197,19 +211,18 @@ fn validate(root: &gltf::json::Root) -> Result<(), String> {
     }
 }
 
-/// The buffers the accessors lie in (their views and sparse views): after `normalise` every
-/// accessor left with a view is one a mesh primitive reads.
-fn used_buffers(root: &gltf::json::Root) -> Vec<usize> {
+/// The buffer views the accessors lie in (their views and sparse views), each once: after
+/// `normalise` every accessor left with a view is one a mesh primitive reads.
+fn used_views(root: &gltf::json::Root) -> Vec<usize> {
     let views = |a: &gltf::json::Accessor| {
         let sparse =
             a.sparse.iter().flat_map(|s| [s.indices.buffer_view.value(), s.values.buffer_view.value()]);
         a.buffer_view.map(|v| v.value()).into_iter().chain(sparse).collect::<Vec<_>>()
     };
-    root.accessors
-        .iter()
-        .flat_map(views)
-        .filter_map(|v| root.buffer_views.get(v).map(|v| v.buffer.value()))
-        .collect()
+    let mut used: Vec<usize> = root.accessors.iter().flat_map(views).collect();
+    used.sort_unstable();
+    used.dedup();
+    used
 }
 
 /// Every buffer's bytes: from the `.glb`'s `BIN` chunk, a `data:` URI or a file beside the

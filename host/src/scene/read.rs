@@ -12,6 +12,7 @@ use shared::normals::TriangleNormals;
 use shared::surface::{MaterialTextures, TriangleTexcoords};
 use shared::texture::TextureRef;
 
+use super::attributes;
 use super::parse::{parse, Parsed};
 use super::tangents;
 use super::textures::{Source, TextureStore};
@@ -544,6 +545,9 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
             "KHR_materials_specular",
             "KHR_materials_clearcoat",
             "KHR_texture_transform",
+            "KHR_mesh_quantization",
+            "EXT_texture_webp",
+            "EXT_meshopt_compression",
         ]
         .contains(&ext)
         {
@@ -661,6 +665,8 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                     });
                 }
                 let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+                // Vertex attributes through `attributes`, which reads every type the spec allows.
+                let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d.0[..]);
                 let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
                 let malformed = |what: String| SceneError::Malformed { path: name.into(), what };
                 for accessor in prim.attributes().map(|(_, a)| a).chain(prim.indices()) {
@@ -680,8 +686,8 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                     soup.warnings.push(format!("{at} has no POSITION: skipped, as the spec says"));
                     continue;
                 };
-                let local: Vec<[f32; 3]> = match reader.read_positions() {
-                    Some(p) => p.collect(),
+                let local: Vec<[f32; 3]> = match attributes::read(&positions_accessor, get) {
+                    Some(p) => p,
                     // No view and no sparse values: zeros, as the spec says.
                     None if positions_accessor.view().is_none() => vec![[0.0; 3]; positions_accessor.count()],
                     None => return Err(malformed(format!("{at}: its POSITION accessor cannot be read"))),
@@ -705,8 +711,8 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                 };
                 let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
                 let textures = soup.materials[material as usize].textures;
-                let texcoords = read_texcoords(&reader, &prim, &soup, material, &at, positions.len(), name)?;
-                let local_normals = read_normals(&reader, &prim, &at, positions.len(), name)?;
+                let texcoords = read_texcoords(get, &prim, &soup, material, &at, positions.len(), name)?;
+                let local_normals = read_normals(get, &prim, &at, positions.len(), name)?;
                 // Normals transform by the inverse transpose of the node's matrix; a matrix
                 // without an inverse leaves degenerate triangles, which are flat.
                 let to_world = glam::Mat3::from_mat4(world).inverse().transpose();
@@ -740,7 +746,7 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                         let mesh =
                             tangents::MeshData { positions: &local, normals, sets, triangles: triples };
                         Some(tangents::corner_tangents(
-                            &reader,
+                            get,
                             &prim,
                             r,
                             &mesh,
@@ -823,8 +829,8 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
 /// A primitive's vertex normals in the mesh's space (of length near 1, as read), or None where
 /// it has none (the mesh is flat, as the spec says).
 fn read_normals<'a, 's, F>(
-    reader: &gltf::mesh::Reader<'a, 's, F>,
-    prim: &gltf::Primitive,
+    get: F,
+    prim: &gltf::Primitive<'a>,
     at: &str,
     vertices: usize,
     name: &str,
@@ -836,8 +842,8 @@ where
         return Ok(None);
     };
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}: {what}") };
-    let local: Vec<[f32; 3]> = match reader.read_normals() {
-        Some(n) => n.collect(),
+    let local: Vec<[f32; 3]> = match attributes::read(&accessor, get) {
+        Some(n) => n,
         // No view and no sparse values: zeros, which no normal can be.
         None if accessor.view().is_none() => vec![[0.0; 3]; accessor.count()],
         None => return Err(malformed("its NORMAL accessor cannot be read".into())),
@@ -862,8 +868,8 @@ where
 /// a material without textures. A set the material uses and the primitive lacks is refused, as
 /// the Khronos validator does.
 fn read_texcoords<'a, 's, F>(
-    reader: &gltf::mesh::Reader<'a, 's, F>,
-    prim: &gltf::Primitive,
+    get: F,
+    prim: &gltf::Primitive<'a>,
     soup: &TriangleSoup,
     material: u32,
     at: &str,
@@ -893,8 +899,8 @@ where
                 ),
             });
         };
-        *coords = match reader.read_tex_coords(set as u32) {
-            Some(c) => c.into_f32().collect(),
+        *coords = match attributes::read(&accessor, get.clone()) {
+            Some(c) => c,
             // No view and no sparse values: zeros, as the spec says.
             None if accessor.view().is_none() => vec![[0.0; 2]; accessor.count()],
             None => {

@@ -77,8 +77,8 @@ pub struct MeshData<'a> {
 /// (`at`, `name`: the primitive's glTF path and the file's, for errors; a primitive whose
 /// triangles MikkTSpace does not take keeps each triangle's own frame, said in `warnings`.)
 pub fn corner_tangents<'a, 's, F>(
-    reader: &gltf::mesh::Reader<'a, 's, F>,
-    prim: &gltf::Primitive,
+    get: F,
+    prim: &gltf::Primitive<'a>,
     r: TextureRef,
     mesh: &MeshData,
     (at, name): (&str, &str),
@@ -87,7 +87,7 @@ pub fn corner_tangents<'a, 's, F>(
 where
     F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
 {
-    if let Some(file) = read_tangents(reader, prim, at, mesh.positions.len(), name)? {
+    if let Some(file) = read_tangents(get, prim, at, mesh.positions.len(), name)? {
         let corner = |i: u32| file.get(i as usize).copied().unwrap_or_default();
         return Ok(mesh.triangles.iter().map(|t| t.map(corner)).collect());
     }
@@ -129,8 +129,8 @@ fn largest_fan(positions: &[Vec3], triangles: &[[u32; 3]]) -> usize {
 /// tangent that is not finite is refused; a zero one gives no direction (a triangle whose three
 /// are zero keeps its own frame).
 fn read_tangents<'a, 's, F>(
-    reader: &gltf::mesh::Reader<'a, 's, F>,
-    prim: &gltf::Primitive,
+    get: F,
+    prim: &gltf::Primitive<'a>,
     at: &str,
     vertices: usize,
     name: &str,
@@ -142,8 +142,8 @@ where
         return Ok(None);
     };
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}: {what}") };
-    let tangents: Vec<[f32; 4]> = match reader.read_tangents() {
-        Some(t) => t.collect(),
+    let tangents: Vec<[f32; 4]> = match super::attributes::read(&accessor, get) {
+        Some(t) => t,
         // No view and no sparse values: zeros, which give no frame.
         None if accessor.view().is_none() => vec![[0.0; 4]; accessor.count()],
         None => return Err(malformed("its TANGENT accessor cannot be read".into())),

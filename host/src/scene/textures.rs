@@ -1,13 +1,15 @@
 //! glTF's textures read into the one texel store the kernels sample (`shared::texture`): each
-//! image decoded once (PNG and JPEG, the two the spec defines, through the `image` crate) to
-//! RGBA8, each texture (an image with a sampler) once however many materials use it. Only the
-//! textures a material reads are loaded.
+//! image decoded once (PNG and JPEG, the two the spec defines, and WebP, `EXT_texture_webp`'s,
+//! through the `image` crate) to RGBA8, each texture (an image with a sampler) once however many
+//! materials use it. Only the textures a material reads are loaded. A texture with
+//! `EXT_texture_webp` reads its WebP image, not its `source` (the spec's fallback for clients
+//! without the extension).
 //!
 //! What is read of a sampler: its wrap modes, and its magnification filter (NEAREST, or
 //! bilinear for LINEAR and by default); its minification filter is not (no mip-maps: a path
 //! tracer's pixel samples filter a minified texture, see `shared::texture`). An image in
-//! another encoding (KTX2, WebP, an extension's source) is not read: the texture is left out
-//! with a warning naming it, and its factor is used. An image that claims PNG or JPEG and
+//! another encoding (KTX2, another extension's source) is not read: the texture is left out
+//! with a warning naming it, and its factor is used. An image that claims PNG, JPEG or WebP and
 //! does not decode is refused by name.
 
 use std::collections::HashMap;
@@ -19,6 +21,9 @@ use shared::texture::{
 };
 
 use super::SceneError;
+
+/// The extension whose texture source is a WebP image.
+pub const WEBP: &str = "EXT_texture_webp";
 
 /// The textures and texels read so far.
 #[derive(Default)]
@@ -218,7 +223,19 @@ impl TextureStore {
     ) -> Result<Option<u32>, SceneError> {
         let json = source.doc.as_json();
         let tex = &json.textures[texture];
-        let image = tex.source.value();
+        let webp = tex.extensions.as_ref().and_then(|e| e.others.get(WEBP)).and_then(|w| w.get("source"));
+        let image = match webp {
+            Some(index) => match index.as_u64().filter(|&i| (i as usize) < json.images.len()) {
+                Some(i) => i as usize,
+                None => {
+                    return Err(SceneError::Malformed {
+                        path: source.name.into(),
+                        what: format!("textures[{texture}].extensions.{WEBP}.source: {index} names no image"),
+                    })
+                }
+            },
+            None => tex.source.value(),
+        };
         if image >= json.images.len() {
             warnings.push(format!(
                 "textures[{texture}] (used by {slot}) has no image smlt reads (its source comes from an extension): its factor is used"
@@ -293,16 +310,16 @@ impl TextureStore {
             return Err(malformed(format!("{at}: neither a uri nor a bufferView")));
         };
         let format = match image::guess_format(&bytes) {
-            Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => f,
+            Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg | image::ImageFormat::WebP)) => f,
             other => {
                 let named = json
                     .mime_type
                     .as_ref()
                     .map(|m| m.0.clone())
                     .or_else(|| other.ok().map(|f| format!("{f:?}")))
-                    .unwrap_or_else(|| "an encoding that is neither PNG nor JPEG".into());
+                    .unwrap_or_else(|| "an encoding that is neither PNG, JPEG nor WebP".into());
                 warnings.push(format!(
-                    "{at} (used by {slot}) is {named}; smlt reads PNG and JPEG: the texture is left out and its factor used"
+                    "{at} (used by {slot}) is {named}; smlt reads PNG, JPEG and WebP: the texture is left out and its factor used"
                 ));
                 return Ok(None);
             }

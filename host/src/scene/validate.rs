@@ -100,6 +100,15 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
             normalized,
         ));
     }
+    // KHR_mesh_quantization's integer attributes, where the file declares it: required, as the
+    // extension says it must be (the validator's NON_REQUIRED_EXTENSION).
+    let declares = |key: &str| list(key).iter().any(|e| e.as_str() == Some(MESH_QUANTIZATION));
+    let quantized = declares("extensionsUsed");
+    if quantized && !declares("extensionsRequired") {
+        return Err(format!(
+            "extensionsRequired: {MESH_QUANTIZATION} is used but not required (the extension cannot be optional)"
+        ));
+    }
     for (m, mesh) in list("meshes").iter().enumerate() {
         let primitives = mesh.get("primitives").and_then(Value::as_array).map(Vec::as_slice).unwrap_or(&[]);
         for (p, prim) in primitives.iter().enumerate() {
@@ -107,40 +116,21 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
             if uint(prim, "mode", &at)?.unwrap_or(4) != 4 {
                 continue; // the reader refuses modes other than TRIANGLES
             }
-            let Some(position) = prim.get("attributes").and_then(|a| a.get("POSITION")) else {
+            if prim.get("attributes").and_then(|a| a.get("POSITION")).is_none() {
                 continue; // nothing to draw: the reader skips it, as the spec says
-            };
-            match position.as_u64().and_then(|k| counts.get(k as usize)) {
-                Some(&(_, 4, 3, Some(5126), _)) => {}
-                Some(_) => return Err(format!("{at}: POSITION must be a VEC3 of floats")),
-                None => return Err(format!("{at}: POSITION accessor {position} does not exist")),
             }
-            // The other attributes the reader reads, of the types the spec allows (without
-            // KHR_mesh_quantization, which the reader refuses): read as another type, their
-            // values would be misread, not refused.
+            // The attributes the reader reads, of the types the spec allows them: read as another
+            // type, their values would be misread, not refused.
             let attributes = prim.get("attributes").and_then(Value::as_object).into_iter().flatten();
             for (name, accessor) in attributes {
-                let allowed: &[(u64, u64)] = match name.as_str() {
-                    "NORMAL" => &[(3, 5126)],
-                    "TANGENT" => &[(4, 5126)],
-                    // Floats, or normalised unsigned bytes or shorts.
-                    "TEXCOORD_0" | "TEXCOORD_1" => &[(2, 5126), (2, 5121), (2, 5123)],
-                    _ => continue,
-                };
+                let Some(types) = AttributeTypes::of(name) else { continue };
                 let Some(&(_, _, components, kind, normalized)) =
                     accessor.as_u64().and_then(|k| counts.get(k as usize))
                 else {
                     return Err(format!("{at}: {name} accessor {accessor} does not exist"));
                 };
-                // Integers only normalised (the reader divides them by their maximum).
-                let integer_ok = kind == Some(5126) || normalized;
-                if !allowed.iter().any(|&(c, k)| c == components && Some(k) == kind) || !integer_ok {
-                    let what = match name.as_str() {
-                        "NORMAL" => "a VEC3 of floats",
-                        "TANGENT" => "a VEC4 of floats",
-                        _ => "a VEC2 of floats, or of normalised unsigned bytes or shorts",
-                    };
-                    return Err(format!("{at}: {name} must be {what}"));
+                if !types.allows(components, kind, normalized, quantized) {
+                    return Err(format!("{at}: {name} must be {}", types.describe(quantized)));
                 }
             }
             // An index (or vertex) count that is no multiple of 3 leaves an incomplete triangle,
@@ -240,6 +230,78 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
     Ok(())
 }
 
+/// The extension that gives vertex attributes integer types.
+pub const MESH_QUANTIZATION: &str = "KHR_mesh_quantization";
+
+const BYTE: u64 = 5120;
+const UNSIGNED_BYTE: u64 = 5121;
+const SHORT: u64 = 5122;
+const UNSIGNED_SHORT: u64 = 5123;
+const FLOAT: u64 = 5126;
+/// `KHR_mesh_quantization`'s integer types of normals and tangents.
+const SIGNED_NORMALISED_TYPES: &[(u64, bool)] = &[(BYTE, true), (SHORT, true)];
+
+/// The types a vertex attribute that the reader reads may have (glTF 2.0's "Meshes", and
+/// `KHR_mesh_quantization`'s table): its component count, floats, and the integer component types
+/// (with whether they are normalised) of the core spec and of the extension.
+struct AttributeTypes {
+    components: u64,
+    core: &'static [(u64, bool)],
+    quantized: &'static [(u64, bool)],
+}
+
+impl AttributeTypes {
+    /// The types of attribute `name`, or None for one the reader does not read.
+    fn of(name: &str) -> Option<Self> {
+        const ANY_NORMALISATION: &[(u64, bool)] = &[
+            (BYTE, false),
+            (BYTE, true),
+            (UNSIGNED_BYTE, false),
+            (UNSIGNED_BYTE, true),
+            (SHORT, false),
+            (SHORT, true),
+            (UNSIGNED_SHORT, false),
+            (UNSIGNED_SHORT, true),
+        ];
+        Some(match name {
+            "POSITION" => AttributeTypes { components: 3, core: &[], quantized: ANY_NORMALISATION },
+            "NORMAL" => AttributeTypes { components: 3, core: &[], quantized: SIGNED_NORMALISED_TYPES },
+            "TANGENT" => AttributeTypes { components: 4, core: &[], quantized: SIGNED_NORMALISED_TYPES },
+            "TEXCOORD_0" | "TEXCOORD_1" => AttributeTypes {
+                components: 2,
+                core: &[(UNSIGNED_BYTE, true), (UNSIGNED_SHORT, true)],
+                quantized: ANY_NORMALISATION,
+            },
+            _ => return None,
+        })
+    }
+
+    /// Whether `components` of `kind` (`normalized` or not) are one of the types, the
+    /// extension's counted where the file uses it (`quantized`).
+    fn allows(&self, components: u64, kind: Option<u64>, normalized: bool, quantized: bool) -> bool {
+        let Some(kind) = kind else { return false };
+        components == self.components
+            && (kind == FLOAT
+                || self.core.contains(&(kind, normalized))
+                || quantized && self.quantized.contains(&(kind, normalized)))
+    }
+
+    /// The types, in words, for the error that refuses another.
+    fn describe(&self, quantized: bool) -> String {
+        let vec = format!("a VEC{} of floats", self.components);
+        match (self.core.is_empty(), quantized) {
+            (true, false) => format!("{vec} (integers need {MESH_QUANTIZATION}, used and required)"),
+            (false, false) => format!(
+                "{vec}, or of normalised unsigned bytes or shorts (other integers need {MESH_QUANTIZATION}, used and required)"
+            ),
+            (_, true) if self.quantized == SIGNED_NORMALISED_TYPES => {
+                format!("{vec}, or of normalised signed bytes or shorts ({MESH_QUANTIZATION})")
+            }
+            (_, true) => format!("{vec}, or of bytes or shorts ({MESH_QUANTIZATION})"),
+        }
+    }
+}
+
 /// An optional unsigned integer member.
 fn uint(v: &Value, key: &str, at: &str) -> Result<Option<u64>, String> {
     match v.get(key) {
@@ -324,6 +386,80 @@ mod tests {
             "cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.01}}],
             "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1]}, "emissiveFactor": [1, 1, 1]}]
         })
+    }
+
+    /// `KHR_mesh_quantization`'s integer attributes pass where the file uses the extension, and
+    /// only the types its table gives; without it they are refused, the extension named.
+    #[test]
+    fn quantised_attributes_need_the_extension_and_its_types() {
+        // accessors[3]: a VEC3 of shorts; [4]: a VEC4 of bytes; [5]: a VEC2 of shorts (all in
+        // view 0's 36 bytes).
+        let quantised = |extension: bool| {
+            let mut d = doc();
+            let accessors = d["accessors"].as_array_mut().unwrap();
+            accessors.push(json!({"bufferView": 0, "componentType": 5122, "count": 3, "type": "VEC3"}));
+            accessors.push(json!({"bufferView": 0, "componentType": 5120, "count": 3, "type": "VEC4"}));
+            accessors.push(json!({"bufferView": 0, "componentType": 5122, "count": 3, "type": "VEC2"}));
+            if extension {
+                d["extensionsUsed"] = json!([MESH_QUANTIZATION]);
+                d["extensionsRequired"] = json!([MESH_QUANTIZATION]);
+            }
+            d
+        };
+        let set = |d: &mut Value, attribute: &str, accessor: u64, normalized: Option<bool>| {
+            d["meshes"][0]["primitives"][0]["attributes"][attribute] = json!(accessor);
+            if let Some(n) = normalized {
+                d["accessors"][accessor as usize]["normalized"] = json!(n);
+            }
+        };
+        // Allowed with the extension: positions of shorts, normalised or not; normals of
+        // normalised shorts; tangents of normalised bytes; coordinates of shorts.
+        for (attribute, accessor, normalized) in [
+            ("POSITION", 3, false),
+            ("POSITION", 3, true),
+            ("NORMAL", 3, true),
+            ("TANGENT", 4, true),
+            ("TEXCOORD_0", 5, false),
+            ("TEXCOORD_1", 5, true),
+        ] {
+            let mut d = quantised(true);
+            set(&mut d, attribute, accessor, Some(normalized));
+            assert_eq!(validate(&d, &[48]), Ok(()), "{attribute} normalised {normalized}");
+            // Without the extension: refused, and the error says what would allow them.
+            let mut d = quantised(false);
+            set(&mut d, attribute, accessor, Some(normalized));
+            let err = validate(&d, &[48]).unwrap_err();
+            assert!(
+                err.contains(&format!("{attribute} must be")) && err.contains(MESH_QUANTIZATION),
+                "{err}"
+            );
+        }
+        // Not in the extension's table: normals and tangents not normalised, and wrong widths.
+        for (attribute, accessor, normalized, expected) in [
+            ("NORMAL", 3, false, "NORMAL must be a VEC3 of floats, or of normalised signed bytes or shorts"),
+            (
+                "TANGENT",
+                4,
+                false,
+                "TANGENT must be a VEC4 of floats, or of normalised signed bytes or shorts",
+            ),
+            ("POSITION", 5, true, "POSITION must be a VEC3 of floats, or of bytes or shorts"),
+            ("TEXCOORD_0", 3, true, "TEXCOORD_0 must be a VEC2"),
+        ] {
+            let mut d = quantised(true);
+            set(&mut d, attribute, accessor, Some(normalized));
+            let err = validate(&d, &[48]).unwrap_err();
+            assert!(err.contains(expected), "{attribute}: {err}");
+        }
+        // Used, it must be required.
+        let mut d = quantised(true);
+        d["extensionsRequired"] = json!([]);
+        assert!(validate(&d, &[48]).unwrap_err().contains("is used but not required"));
+        // 32-bit integers are no attribute's type, with or without the extension.
+        let mut d = quantised(true);
+        d["accessors"][3]["componentType"] = json!(5125);
+        set(&mut d, "POSITION", 3, None);
+        assert!(validate(&d, &[48]).unwrap_err().contains("POSITION must be"));
     }
 
     /// A well-formed document passes; each single wrong value is named by its path.
