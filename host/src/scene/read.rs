@@ -664,9 +664,10 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                         ),
                     });
                 }
-                let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-                // Vertex attributes through `attributes`, which reads every type the spec allows.
+                // The indices through the gltf crate's reader, vertex attributes through
+                // `attributes`, which reads every type the spec allows them.
                 let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d.0[..]);
+                let reader = prim.reader(get);
                 let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
                 let malformed = |what: String| SceneError::Malformed { path: name.into(), what };
                 for accessor in prim.attributes().map(|(_, a)| a).chain(prim.indices()) {
