@@ -6,6 +6,8 @@
 #    kernel developers only;
 #  - when no Vulkan driver is installed, Debian's Vulkan loader and lavapipe, Mesa's CPU
 #    Vulkan driver (packages libvulkan1 and mesa-vulkan-drivers);
+#  - when no C++ compiler is installed, Debian's g++: the build compiles meshoptimizer's decoder
+#    (EXT_meshopt_compression) from its C++ source;
 #  - when it is missing, Intel Embree (libembree3-3): the CPU backend's fastest ray caster,
 #    loaded at run time. smlt runs without it (rays through obvhs's traversal, 1.5-2.7x
 #    slower), so where it cannot be installed this only prints a note.
@@ -37,21 +39,25 @@ vulkan_packages=""
 if ! has_vulkan_loader || ! has_vulkan_driver; then
     vulkan_packages="libvulkan1 mesa-vulkan-drivers"
 fi
+build_packages=""
+command -v c++ >/dev/null 2>&1 || build_packages="g++"
+required="$vulkan_packages${build_packages:+ $build_packages}"
+required="${required# }"
 embree_packages=""
 has_embree || embree_packages="libembree3-3"
-if [ -n "$vulkan_packages$embree_packages" ] && can_apt; then
-    echo "setup: installing $vulkan_packages $embree_packages" >&2
+if [ -n "$required$embree_packages" ] && can_apt; then
+    echo "setup: installing $required${embree_packages:+ $embree_packages}" >&2
     apt-get update -qq
-    if [ -n "$vulkan_packages" ]; then
-        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $vulkan_packages >/dev/null
+    if [ -n "$required" ]; then
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $required >/dev/null
     fi
     if [ -n "$embree_packages" ]; then
         DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $embree_packages >/dev/null ||
             echo "note: could not install $embree_packages; the CPU backend casts rays without Embree (slower)" >&2
     fi
-elif [ -n "$vulkan_packages" ]; then
-    echo "error: no Vulkan driver found and cannot install one here (needs root and apt-get);" >&2
-    echo "       run: sudo apt-get install $vulkan_packages   (or install your GPU's Vulkan driver)" >&2
+elif [ -n "$required" ]; then
+    echo "error: no Vulkan driver or no C++ compiler found, and cannot install here (needs root and apt-get);" >&2
+    echo "       run: sudo apt-get install $required   (or install your GPU's Vulkan driver)" >&2
     exit 1
 elif [ -n "$embree_packages" ]; then
     echo "note: Embree not found; the CPU backend casts rays without it (slower): sudo apt-get install $embree_packages" >&2
