@@ -1303,6 +1303,12 @@ fn meshopt_compressed_views_load_as_the_views_they_encode() {
         )),
         "{err}"
     );
+    // The compressed data's buffer without its data (no uri).
+    let mut missing = packed.clone();
+    let data = packed["buffers"].as_array().unwrap().len() - 1;
+    missing["buffers"][data].as_object_mut().unwrap().remove("uri");
+    let err = load(&missing).unwrap_err().to_string();
+    assert!(err.contains(&format!("buffers[{data}], whose data is not in the file")), "{err}");
     let mut count = packed.clone();
     count["bufferViews"][v]["extensions"]["EXT_meshopt_compression"]["count"] = json!(1);
     let err = load(&count).unwrap_err().to_string();

@@ -164,10 +164,12 @@ impl Compressed {
 
 /// Decodes every compressed view of `root` among `views` (those the meshes read) into a new
 /// buffer appended to `buffers`, pointing the view at it (offset 0, its stride kept). The error
-/// names the view's glTF path.
+/// names the view's glTF path; compressed data in one of the `placeholders` (buffers whose data
+/// the file does not hold) is refused as such.
 pub fn decompress(
     root: &mut gltf::json::Root,
     buffers: &mut Vec<gltf::buffer::Data>,
+    placeholders: &[usize],
     views: &[usize],
 ) -> Result<(), String> {
     for &v in views {
@@ -177,6 +179,12 @@ pub fn decompress(
         let c = Compressed::read(e, view.byte_length.0 as usize, view.byte_stride.map(|s| s.0))
             .map_err(|what| format!("{at}.{what}"))?;
         let source = buffers.get(c.buffer).ok_or(format!("{at}.buffer: {} does not exist", c.buffer))?;
+        if placeholders.contains(&c.buffer) {
+            return Err(format!(
+                "{at}: buffers[{}], whose data is not in the file (no uri, no BIN chunk)",
+                c.buffer
+            ));
+        }
         let data =
             c.offset.checked_add(c.length).and_then(|end| source.0.get(c.offset..end)).ok_or(format!(
                 "{at}: byteOffset {} + byteLength {} runs past buffers[{}]",

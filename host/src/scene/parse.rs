@@ -62,7 +62,7 @@ pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, Sc
     let (mut buffers, placeholders) = read_buffers(&doc, base, blob, &used, name)?;
     // Compressed views decoded into buffers of their own, which the rest reads as any view.
     let mut root = doc.into_json();
-    super::meshopt::decompress(&mut root, &mut buffers, &views)
+    super::meshopt::decompress(&mut root, &mut buffers, &placeholders, &views)
         .map_err(|what| SceneError::Malformed { path: name.into(), what })?;
     let doc = gltf::Document::from_json_without_validation(root);
     Ok(Parsed { doc, buffers, placeholders, warnings })
@@ -71,7 +71,7 @@ pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, Sc
 /// Extensions that smlt reads itself, which the gltf crate does not know: the clear coat from
 /// the document's JSON, quantised attributes through `super::attributes`, WebP images in
 /// `super::textures`, compressed views in `super::meshopt`.
-const READ_BY_SMLT: [&str; 4] = [
+pub const READ_BY_SMLT: [&str; 4] = [
     "KHR_materials_clearcoat",
     super::validate::MESH_QUANTIZATION,
     super::textures::WEBP,

@@ -543,13 +543,10 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
             "KHR_materials_ior",
             "KHR_materials_volume",
             "KHR_materials_specular",
-            "KHR_materials_clearcoat",
             "KHR_texture_transform",
-            "KHR_mesh_quantization",
-            "EXT_texture_webp",
-            "EXT_meshopt_compression",
         ]
         .contains(&ext)
+            && !super::parse::READ_BY_SMLT.contains(&ext)
         {
             soup.warnings.push(format!("extension {ext} is ignored"));
         }
