@@ -22,7 +22,9 @@ fi
 # rust-toolchain.toml names; it does nothing when they are present.
 rustup toolchain install >/dev/null
 
-has_vulkan_loader() { ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1'; }
+# grep reads ldconfig's whole list (not -q): with pipefail, an early exit of grep would make
+# ldconfig die of SIGPIPE now and then, and the library read as missing.
+has_vulkan_loader() { ldconfig -p 2>/dev/null | grep 'libvulkan\.so\.1' >/dev/null; }
 has_vulkan_driver() {
     [ -n "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && return 0
     local d
@@ -32,7 +34,7 @@ has_vulkan_driver() {
     return 1
 }
 
-has_embree() { ldconfig -p 2>/dev/null | grep -q 'libembree3\.so\.3'; }
+has_embree() { ldconfig -p 2>/dev/null | grep 'libembree3\.so\.3' >/dev/null; }
 can_apt() { [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; }
 
 vulkan_packages=""
