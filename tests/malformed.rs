@@ -66,13 +66,24 @@ impl Base {
     }
 }
 
-/// The committed default scene (non-indexed) and the measured Cornell box (indexed, from
-/// `../shared/scenes`, which CI has).
+/// The committed default scene (non-indexed), Blender's Draco export of the round-trip scene
+/// (`tests/draco`: every primitive a Draco stream, its image inlined) and the measured Cornell
+/// box (indexed, from `../shared/scenes`, which CI has).
 fn bases() -> Vec<Base> {
     let mut out = Vec::new();
     let json: Value = serde_json::from_str(include_str!("../scenes/cornell.gltf")).unwrap();
     let uri = json["buffers"][0]["uri"].as_str().unwrap();
     let bin = base64::engine::general_purpose::STANDARD.decode(uri.split_once(',').unwrap().1).unwrap();
+    out.push(Base { json, bin });
+    let draco = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/draco/blender");
+    let mut json: Value =
+        serde_json::from_str(&std::fs::read_to_string(draco.join("round_trip.gltf")).unwrap()).unwrap();
+    let png = std::fs::read(draco.join(json["images"][0]["uri"].as_str().unwrap())).unwrap();
+    json["images"][0]["uri"] = Value::String(format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(png)
+    ));
+    let bin = std::fs::read(draco.join(json["buffers"][0]["uri"].as_str().unwrap())).unwrap();
     out.push(Base { json, bin });
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/cornell_box");
     match (std::fs::read_to_string(dir.join("cornell_box.gltf")), std::fs::read(dir.join("cornell_box.bin")))

@@ -6,7 +6,8 @@
 //!   transforms, matrix or TRS, of the default scene (or the first), and their vertex normals
 //!   (`NORMAL`, the shading normals: `shared::normals`; without them a mesh is flat, as the
 //!   spec says); attributes as floats or as `KHR_mesh_quantization`'s integers (`attributes`),
-//!   their views compressed or not (`EXT_meshopt_compression`: `meshopt`);
+//!   their views compressed or not (`EXT_meshopt_compression`: `meshopt`), or the whole
+//!   primitive one Draco stream (`KHR_draco_mesh_compression`: `draco`);
 //! - materials: glTF's metallic-roughness BRDF (`baseColorFactor`, `metallicFactor`,
 //!   `roughnessFactor`, `KHR_materials_specular`, `KHR_materials_ior`), glass
 //!   (`KHR_materials_transmission`, `_volume`), the clear coat (`KHR_materials_clearcoat`, its
@@ -31,6 +32,7 @@
 //! same bounding sphere's disks as a directional light's.
 
 mod attributes;
+mod draco;
 mod environment;
 mod lights;
 mod meshopt;

@@ -56,26 +56,31 @@ pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, Sc
         None => load(format!("invalid glTF: {what}")),
     })?;
     let views = used_views(&root);
-    let used: Vec<usize> =
+    let mut used: Vec<usize> =
         views.iter().filter_map(|&v| root.buffer_views.get(v)).map(super::meshopt::source_buffer).collect();
+    used.extend(super::draco::stream_buffers(&root));
     let doc = gltf::Document::from_json_without_validation(root);
     let (mut buffers, placeholders) = read_buffers(&doc, base, blob, &used, name)?;
-    // Compressed views decoded into buffers of their own, which the rest reads as any view.
+    // Compressed views and primitives decoded into buffers of their own, which the rest reads
+    // as any view.
     let mut root = doc.into_json();
-    super::meshopt::decompress(&mut root, &mut buffers, &placeholders, &views)
-        .map_err(|what| SceneError::Malformed { path: name.into(), what })?;
+    let malformed = |what| SceneError::Malformed { path: name.into(), what };
+    super::meshopt::decompress(&mut root, &mut buffers, &placeholders, &views).map_err(malformed)?;
+    super::draco::decompress(&mut root, &mut buffers, &placeholders).map_err(malformed)?;
     let doc = gltf::Document::from_json_without_validation(root);
     Ok(Parsed { doc, buffers, placeholders, warnings })
 }
 
 /// Extensions that smlt reads itself, which the gltf crate does not know: the clear coat from
 /// the document's JSON, quantised attributes through `super::attributes`, WebP images in
-/// `super::textures`, compressed views in `super::meshopt`.
-pub const READ_BY_SMLT: [&str; 4] = [
+/// `super::textures`, compressed views in `super::meshopt`, compressed primitives in
+/// `super::draco`.
+pub const READ_BY_SMLT: [&str; 5] = [
     "KHR_materials_clearcoat",
     super::validate::MESH_QUANTIZATION,
     super::textures::WEBP,
     super::meshopt::EXTENSION,
+    super::draco::EXTENSION,
 ];
 
 /// What the gltf crate's types cannot hold but the spec allows, made what they can (see the
