@@ -4,7 +4,7 @@ floor and a gold ball with Blender's Python module (`pip install bpy`), writes i
 own glTF exporter, renders the file back in Cycles (CPU) through Blender's own glTF importer,
 and writes what smlt needs to render the same file.
 
-    python3 blender_round_trip.py OUT [--samples 2048] [--width 160] [--height 120] [--no-glass] [--plain]
+    python3 blender_round_trip.py OUT [--samples 2048] [--width 160] [--height 120] [--no-glass] [--plain] [--draco]
 
 OUT gets `round_trip.gltf` (+ .bin, and `checker.png` but with --plain), `cycles.exr` and
 `cycles.txt` (the settings and what the render changed after the import). Then smlt's
@@ -130,7 +130,7 @@ def checker_image(bpy, np):
     return img
 
 
-def build(out, glass=True, plain=False):
+def build(out, glass=True, plain=False, draco=False):
     import bpy
     import numpy as np
 
@@ -217,7 +217,8 @@ def build(out, glass=True, plain=False):
     scene.camera = cam
 
     path = os.path.join(out, "round_trip.gltf")
-    bpy.ops.export_scene.gltf(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True, export_lights=True)
+    bpy.ops.export_scene.gltf(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True, export_lights=True,
+                              export_draco_mesh_compression_enable=draco)
     if glass:
         print(check_glass(path))
     if not plain:
@@ -282,9 +283,14 @@ def check_textured(path):
     if facts[0] != 1.0 or abs(facts[1] - GOLD_ROUGHNESS) > 1e-6 or any(abs(a - b) > 1e-6 for a, b in zip(facts[2], GOLD)) \
             or "baseColorTexture" in g or "metallicRoughnessTexture" in g:
         refuse(f"gold exported as {json.dumps(gold)}")
+    described = (f"{path}: floor material {json.dumps(floor)}\n  texture {json.dumps(texture)}, sampler {json.dumps(sampler)},"
+                 f" image {json.dumps(image)} ({w}x{h}, 8-bit sRGB values {values})\n"
+                 f"  gold material {json.dumps(gold)}")
     # The floor's TEXCOORD_n, read from the buffer (the exporter need not write min/max).
     (floor_mesh,) = [m for m in doc["meshes"] if any(p.get("material") == doc["materials"].index(floor)
                                                         for p in m["primitives"])]
+    if any("KHR_draco_mesh_compression" in p.get("extensions", {}) for p in floor_mesh["primitives"]):
+        return described + "\n  TEXCOORD_n: in a Draco stream, not read here"
     uv = []
     for prim in floor_mesh["primitives"]:
         acc = doc["accessors"][prim["attributes"][f"TEXCOORD_{info.get('texCoord', 0)}"]]
@@ -300,12 +306,9 @@ def check_textured(path):
         refuse(f"the floor's texture transform rotates: {transform}")
     lo, hi = uv.min(axis=0), uv.max(axis=0)
     tlo, thi = [lo[i] * scale[i] + offset[i] for i in (0, 1)], [hi[i] * scale[i] + offset[i] for i in (0, 1)]
-    return (f"{path}: floor material {json.dumps(floor)}\n  texture {json.dumps(texture)}, sampler {json.dumps(sampler)},"
-            f" image {json.dumps(image)} ({w}x{h}, 8-bit sRGB values {values})\n"
-            f"  TEXCOORD_{info.get('texCoord', 0)} u {lo[0]:g}..{hi[0]:g}, v {lo[1]:g}..{hi[1]:g};"
+    return (described + f"\n  TEXCOORD_{info.get('texCoord', 0)} u {lo[0]:g}..{hi[0]:g}, v {lo[1]:g}..{hi[1]:g};"
             f" after KHR_texture_transform u {min(tlo[0], thi[0]):g}..{max(tlo[0], thi[0]):g},"
-            f" v {min(tlo[1], thi[1]):g}..{max(tlo[1], thi[1]):g}\n"
-            f"  gold material {json.dumps(gold)}")
+            f" v {min(tlo[1], thi[1]):g}..{max(tlo[1], thi[1]):g}")
 
 
 def check_glass(path):
@@ -476,12 +479,14 @@ def main():
     ap.add_argument("--no-glass", action="store_true", help="the scene without its glass ball (the lamps, box and ball alone)")
     ap.add_argument("--plain", action="store_true",
                     help="the untextured scene of the first round trips: grey floor and white ball, no checker, no gold")
+    ap.add_argument("--draco", action="store_true",
+                    help="export with the exporter's Draco mesh compression (KHR_draco_mesh_compression, its defaults)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     if a.compare:
         compare(a.out, a.picture, a.ev)
         return
-    path = build(a.out, glass=not a.no_glass, plain=a.plain)
+    path = build(a.out, glass=not a.no_glass, plain=a.plain, draco=a.draco)
     cycles(a.out, path, a.samples, a.width, a.height)
 
 

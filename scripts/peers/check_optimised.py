@@ -21,17 +21,23 @@ The optimisers are the tools users run on their files (`npm install gltfpack @gl
   `gltf-transform optimize` does to geometry by default, without its simplification);
 - `webp`: `gltf-transform webp --lossless true`, every texture as a lossless WebP
   (`EXT_texture_webp`, required, no fallback);
+- `draco`: `gltf-transform draco` with its defaults, each primitive one Draco stream
+  (`KHR_draco_mesh_compression`, required; Google's encoder, the `draco3dgltf` package's
+  WebAssembly build: EdgeBreaker, positions on 14 bits, normals on 10, coordinates and other
+  attributes on 12), vertices and faces reordered;
 - `dequantized`, `decompressed` and `decompressed-vpf`: gltfpack's three files turned back into floats by
   `gltf-transform dequantize` (whose reader decodes meshoptimizer's streams with its own
   WebAssembly build of the decoder), an independent decoder of the same triangles in the same
-  order.
+  order; `draco-decoded`: the `draco` file decoded by Google's Draco decoder (`draco_decode.cjs`,
+  the same package) and written uncompressed.
 
 For each scene (the generated `textured`, `smooth` and `lamps` by default, plus every NAME=PATH
 given: `tangents.gltf` of `tangent_scene.py` for TANGENT, Sibenik for a large mesh), in OUT/NAME/:
 `float/` (the file as written) and a folder for each variant; `smlt reference` of each (--spp,
 seed 1, CPU), and of the float file with seed 2 (its noise); Cycles (`cycles_peer.py --converged`)
-on the float, gltfpack, transform and webp files, and (Blender 5.0's importer refuses
-`EXT_meshopt_compression`) on the decompressed one.
+on the float, gltfpack, transform, draco (Blender's importer decodes it with its own build of
+Google's decoder) and webp files, and (Blender 5.0's importer refuses `EXT_meshopt_compression`)
+on the decompressed one.
 
 Printed a scene: the attribute types of the quantised files; the warnings smlt gave; smlt on
 gltfpack's files against smlt on their decoded twins (same triangles, same random numbers: only
@@ -53,8 +59,8 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 from cycles_peer import read_exr  # noqa: E402
 
-VARIANTS = ("gltfpack", "compressed", "compressed-vpf", "transform", "transform-meshopt", "webp",
-            "dequantized", "decompressed", "decompressed-vpf")
+VARIANTS = ("gltfpack", "compressed", "compressed-vpf", "transform", "transform-meshopt", "webp", "draco",
+            "dequantized", "decompressed", "decompressed-vpf", "draco-decoded")
 TYPES = {5120: "i8", 5121: "u8", 5122: "i16", 5123: "u16", 5125: "u32", 5126: "f32"}
 
 
@@ -130,6 +136,11 @@ def main():
         run([transform, "dequantize", paths["gltfpack"], paths["dequantized"]])
         run([transform, "dequantize", paths["compressed"], paths["decompressed"]])
         run([transform, "dequantize", paths["compressed-vpf"], paths["decompressed-vpf"]])
+        run([transform, "draco", paths["float"], paths["draco"]])
+        # draco3dgltf and glTF-Transform's packages lie in the node_modules its command is in.
+        modules = os.environ.get("NODE_PATH") or os.path.dirname(os.path.dirname(transform))
+        run(["node", os.path.join(HERE, "draco_decode.cjs"), paths["draco"], paths["draco-decoded"]],
+            env={**os.environ, "NODE_PATH": modules})
 
         def reference(key, seed=1):
             exr = os.path.join(folder, f"smlt_{key}_{seed}.exr")
@@ -143,7 +154,7 @@ def main():
             images[key], warned[key] = reference(key)
         noise = compare(reference("float", 2)[0], images["float"])[1]
         print(f"\n{name}: mean {images['float'].mean():.5f}, noise RMSE (seeds 1, 2) {noise:.2e}")
-        for key in ("gltfpack", "transform", "transform-meshopt"):
+        for key in ("gltfpack", "transform", "transform-meshopt", "draco"):
             print(f"  {key}: {attribute_types(paths[key])}")
         for key, lines in warned.items():
             for line in lines:
@@ -152,12 +163,13 @@ def main():
             ("gltfpack", "dequantized"),
             ("compressed", "decompressed"),
             ("compressed-vpf", "decompressed-vpf"),
+            ("draco", "draco-decoded"),
         ):
             q, d = images[key], images[twin]
             same = float((q == d).all(-1).mean())
             print(f"  smlt on {key} against the {twin} file: {100 * same:.1f} % of pixels identical, "
                   f"mean {compare(q, d)[0]:+.4f} %, RMSE {compare(q, d)[1]:.2e}")
-        for key in ("gltfpack", "compressed", "compressed-vpf", "transform", "transform-meshopt", "webp"):
+        for key in ("gltfpack", "compressed", "compressed-vpf", "transform", "transform-meshopt", "webp", "draco"):
             dm, r = compare(images[key], images["float"])
             print(f"  {key} against the float file: mean {dm:+.3f} %, RMSE {r:.2e} ({r / noise:.2f} x the noise)")
         if a.no_cycles:
@@ -166,7 +178,7 @@ def main():
         with open(paths["float"]) as f:
             textured = bool(json.load(f).get("images"))
         # Blender 5.0 refuses EXT_meshopt_compression: its decoded twin stands in for gltfpack -cc.
-        for key in ("float", "gltfpack", "decompressed", "transform") + (("webp",) if textured else ()):
+        for key in ("float", "gltfpack", "decompressed", "transform", "draco") + (("webp",) if textured else ()):
             exr = os.path.join(folder, f"cycles_{key}.exr")
             run([sys.executable, os.path.join(HERE, "cycles_peer.py"), paths[key], "--converged", str(a.spp),
                  "--reference", os.path.join(folder, f"smlt_{key}_1.exr"), "--save", exr, *size])
