@@ -23,28 +23,14 @@ any difference is the decoders'); smlt and Cycles each on the Draco file against
 """
 import argparse
 import os
-import shutil
-import subprocess
 import sys
-
-import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import blender_round_trip  # noqa: E402
-from check_optimised import compare, run  # noqa: E402
+from check_optimised import compare, node_modules, run  # noqa: E402
 from cycles_peer import read_exr  # noqa: E402
-
-
-def node_modules():
-    """The node_modules folder glTF-Transform was installed in."""
-    if os.environ.get("NODE_PATH"):
-        return os.environ["NODE_PATH"]
-    command = os.environ.get("GLTF_TRANSFORM") or shutil.which("gltf-transform")
-    if not command:
-        raise SystemExit("gltf-transform not found: npm install @gltf-transform/cli, or set NODE_PATH")
-    return os.path.dirname(os.path.dirname(command))
 
 
 def main():

@@ -71,6 +71,11 @@ def tool(env, name):
     return path
 
 
+def node_modules():
+    """The node_modules folder glTF-Transform was installed in (NODE_PATH, else its command's)."""
+    return os.environ.get("NODE_PATH") or os.path.dirname(os.path.dirname(tool("GLTF_TRANSFORM", "gltf-transform")))
+
+
 def run(cmd, **kw):
     p = subprocess.run(cmd, capture_output=True, text=True, **kw)
     if p.returncode != 0:
@@ -137,10 +142,8 @@ def main():
         run([transform, "dequantize", paths["compressed"], paths["decompressed"]])
         run([transform, "dequantize", paths["compressed-vpf"], paths["decompressed-vpf"]])
         run([transform, "draco", paths["float"], paths["draco"]])
-        # draco3dgltf and glTF-Transform's packages lie in the node_modules its command is in.
-        modules = os.environ.get("NODE_PATH") or os.path.dirname(os.path.dirname(transform))
         run(["node", os.path.join(HERE, "draco_decode.cjs"), paths["draco"], paths["draco-decoded"]],
-            env={**os.environ, "NODE_PATH": modules})
+            env={**os.environ, "NODE_PATH": node_modules()})
 
         def reference(key, seed=1):
             exr = os.path.join(folder, f"smlt_{key}_{seed}.exr")

@@ -264,15 +264,7 @@ fn index_bytes(indices: &[u32], component: ComponentType) -> Result<Vec<u8>, Str
 
 /// Points accessor `k` at a view of a new buffer of `bytes` (its values tightly packed).
 fn point_at(root: &mut gltf::json::Root, buffers: &mut Vec<gltf::buffer::Data>, k: usize, bytes: &[u8]) {
-    let buffer = buffers.len();
-    root.buffers.push(gltf::json::Buffer {
-        byte_length: bytes.len().into(),
-        name: None,
-        uri: None,
-        extensions: None,
-        extras: Default::default(),
-    });
-    buffers.push(gltf::buffer::Data(bytes.to_vec()));
+    let buffer = super::parse::append_buffer(root, buffers, bytes.to_vec());
     let view = root.buffer_views.len();
     root.buffer_views.push(gltf::json::buffer::View {
         buffer: gltf::json::Index::new(buffer as u32),

@@ -191,15 +191,7 @@ pub fn decompress(
                 c.offset, c.length, c.buffer
             ))?;
         let decoded = c.decode(data).map_err(|what| format!("{at}: {what}"))?;
-        let index = buffers.len();
-        root.buffers.push(gltf::json::Buffer {
-            byte_length: decoded.len().into(),
-            name: None,
-            uri: None,
-            extensions: None,
-            extras: Default::default(),
-        });
-        buffers.push(gltf::buffer::Data(decoded));
+        let index = super::parse::append_buffer(root, buffers, decoded);
         let view = &mut root.buffer_views[v];
         view.buffer = gltf::json::Index::new(index as u32);
         view.byte_offset = None;

@@ -83,6 +83,24 @@ pub const READ_BY_SMLT: [&str; 5] = [
     super::draco::EXTENSION,
 ];
 
+/// Appends `bytes` to the document as a buffer of its own (decoded data: no URI), in `root` and
+/// in `buffers`; its index.
+pub fn append_buffer(
+    root: &mut gltf::json::Root,
+    buffers: &mut Vec<gltf::buffer::Data>,
+    bytes: Vec<u8>,
+) -> usize {
+    root.buffers.push(gltf::json::Buffer {
+        byte_length: bytes.len().into(),
+        name: None,
+        uri: None,
+        extensions: None,
+        extras: Default::default(),
+    });
+    buffers.push(gltf::buffer::Data(bytes));
+    buffers.len() - 1
+}
+
 /// What the gltf crate's types cannot hold but the spec allows, made what they can (see the
 /// module doc).
 fn normalise(value: &mut Value, warnings: &mut Vec<String>) {
