@@ -21,7 +21,8 @@ The scene: a checker floor, a back wall, a red box and a gold ball (flat-shaded,
 with the geometric normal), and a clear glass ball in front (`--no-glass`: without it), lit by a
 point lamp, a spot and a sun, seen by one camera. `--plain`: a grey floor (0.5) and a white ball
 (0.8) instead of the checker and the gold, the scene of the first round trips (docs/results.md's
-numbers; `--plain --no-glass` is the very first). The wall, the box, the plain floor and ball
+numbers; `--plain --no-glass` is the very first). `--draco`: exported with the exporter's Draco
+mesh compression at its defaults (`KHR_draco_mesh_compression`; `check_blender_draco.py`). The wall, the box, the plain floor and ball
 are Principled BSDFs with metallic 0, roughness 1 and specular IOR level 0 — Lambertian in
 Cycles, and Lambertian in smlt (the exporter writes KHR_materials_specular specularFactor 0).
 The checker floor is that Lambert with Base Color from an Image Texture (`checker_image`: 64×64

@@ -11,12 +11,13 @@
 //!
 //! Then the crate's validation runs, less what the spec allows: an accessor without a
 //! `bufferView` (its values are zeros, or its sparse values), a texture whose image comes from an
-//! extension or the application, and a primitive without positions (skipped). Images are never
-//! decoded (smlt reads no texture yet), so no image can fail a load. Buffers are read from the
+//! extension or the application, and a primitive without positions (skipped). Images are not
+//! decoded here (`super::textures` reads those the materials use). Buffers are read from the
 //! file's own folder or `data:` URIs; a buffer whose data is not in the file (no URI in a `.gltf`,
 //! no `BIN` chunk in a `.glb`) or that no mesh reads (whatever its source) reads as zeros, and is
 //! refused by name if a mesh uses it ([`Parsed::placeholders`]). An unsupported required
-//! extension is refused as such, by name.
+//! extension is refused as such, by name. Last, compressed views (`super::meshopt`) and
+//! compressed primitives (`super::draco`) are decoded into buffers of their own.
 
 use std::path::Path;
 
