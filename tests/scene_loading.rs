@@ -1398,7 +1398,6 @@ fn draco_compressed(doc: &Value, speed: i32, bits: Option<[i32; 3]>) -> Value {
                     "componentType": 5126, "count": info.num_encoded_points, "type": format!("VEC{n}")
                 }));
                 if name == "POSITION" {
-                    let k = out["accessors"].as_array().unwrap().len() - 1;
                     out["accessors"][k]["min"] = json!(bounds.iter().map(|b| b.0).collect::<Vec<_>>());
                     out["accessors"][k]["max"] = json!(bounds.iter().map(|b| b.1).collect::<Vec<_>>());
                 }
