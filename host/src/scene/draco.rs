@@ -73,8 +73,8 @@ pub fn decompress(
     buffers: &mut Vec<gltf::buffer::Data>,
     placeholders: &[usize],
 ) -> Result<(), String> {
-    // Each accessor filled, with the bytes it was filled with.
-    let mut filled: HashMap<usize, Vec<u8>> = HashMap::new();
+    // Each accessor filled, with the buffer it was filled from.
+    let mut filled: HashMap<usize, usize> = HashMap::new();
     for m in 0..root.meshes.len() {
         for p in 0..root.meshes[m].primitives.len() {
             let primitive = &root.meshes[m].primitives[p];
@@ -89,7 +89,7 @@ pub fn decompress(
                 .map_err(|what| format!("{primitive_at}.{what}"))?;
             for (k, bytes) in accessors {
                 match filled.get(&k) {
-                    Some(earlier) if *earlier != bytes => {
+                    Some(&earlier) if buffers[earlier].0 != bytes => {
                         return Err(format!(
                             "{at}: accessors[{k}] is read by another compressed primitive, whose data \
                              decodes to other values"
@@ -97,8 +97,7 @@ pub fn decompress(
                     }
                     Some(_) => {}
                     None => {
-                        point_at(root, buffers, k, &bytes);
-                        filled.insert(k, bytes);
+                        filled.insert(k, point_at(root, buffers, k, bytes));
                     }
                 }
             }
@@ -262,13 +261,20 @@ fn index_bytes(indices: &[u32], component: ComponentType) -> Result<Vec<u8>, Str
     })
 }
 
-/// Points accessor `k` at a view of a new buffer of `bytes` (its values tightly packed).
-fn point_at(root: &mut gltf::json::Root, buffers: &mut Vec<gltf::buffer::Data>, k: usize, bytes: &[u8]) {
-    let buffer = super::parse::append_buffer(root, buffers, bytes.to_vec());
+/// Points accessor `k` at a view of a new buffer of `bytes` (its values tightly packed); the
+/// buffer's index.
+fn point_at(
+    root: &mut gltf::json::Root,
+    buffers: &mut Vec<gltf::buffer::Data>,
+    k: usize,
+    bytes: Vec<u8>,
+) -> usize {
+    let length = bytes.len();
+    let buffer = super::parse::append_buffer(root, buffers, bytes);
     let view = root.buffer_views.len();
     root.buffer_views.push(gltf::json::buffer::View {
         buffer: gltf::json::Index::new(buffer as u32),
-        byte_length: bytes.len().into(),
+        byte_length: length.into(),
         byte_offset: None,
         byte_stride: None,
         name: None,
@@ -280,6 +286,7 @@ fn point_at(root: &mut gltf::json::Root, buffers: &mut Vec<gltf::buffer::Data>, 
     accessor.buffer_view = Some(gltf::json::Index::new(view as u32));
     accessor.byte_offset = None;
     accessor.sparse = None;
+    buffer
 }
 
 #[cfg(test)]
