@@ -67,8 +67,9 @@ impl Base {
 }
 
 /// The committed default scene (non-indexed), Blender's Draco export of the round-trip scene
-/// (`tests/draco`: every primitive a Draco stream, its image inlined) and the measured Cornell
-/// box (indexed, from `../shared/scenes`, which CI has).
+/// (`tests/draco`: every primitive a Draco stream, its image inlined), the `textured` scene with
+/// KTX2 textures (`tests/ktx2`: ETC1S with BasisLZ, one UASTC with Zstandard, in the buffer) and
+/// the measured Cornell box (indexed, from `../shared/scenes`, which CI has).
 fn bases() -> Vec<Base> {
     let mut out = Vec::new();
     let json: Value = serde_json::from_str(include_str!("../scenes/cornell.gltf")).unwrap();
@@ -84,6 +85,23 @@ fn bases() -> Vec<Base> {
         base64::engine::general_purpose::STANDARD.encode(png)
     ));
     let bin = std::fs::read(draco.join(json["buffers"][0]["uri"].as_str().unwrap())).unwrap();
+    out.push(Base { json, bin });
+    let ktx2 = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ktx2");
+    let mut json: Value =
+        serde_json::from_str(&std::fs::read_to_string(ktx2.join("etc1s_mipmaps/scene.gltf")).unwrap())
+            .unwrap();
+    let mut bin = std::fs::read(ktx2.join("etc1s_mipmaps/scene.bin")).unwrap();
+    for i in 0..json["images"].as_array().unwrap().len() {
+        let file = json["images"][i]["uri"].as_str().unwrap().to_string();
+        let variant = if i == 2 { "uastc_zstd" } else { "etc1s_mipmaps" };
+        let bytes = std::fs::read(ktx2.join(variant).join(file)).unwrap();
+        bin.resize(bin.len().next_multiple_of(4), 0);
+        let views = json["bufferViews"].as_array_mut().unwrap();
+        views.push(serde_json::json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len()}));
+        json["images"][i] = serde_json::json!({"bufferView": views.len() - 1, "mimeType": "image/ktx2"});
+        bin.extend(bytes);
+    }
+    json["buffers"][0]["byteLength"] = serde_json::json!(bin.len());
     out.push(Base { json, bin });
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/cornell_box");
     match (std::fs::read_to_string(dir.join("cornell_box.gltf")), std::fs::read(dir.join("cornell_box.bin")))

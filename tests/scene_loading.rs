@@ -94,12 +94,12 @@ fn unsupported_content_is_an_error_or_a_warning() {
     let dir = std::env::temp_dir().join(format!("smlt-texture-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     image::RgbImage::from_pixel(1, 1, image::Rgb([200, 10, 10])).save(dir.join("red.png")).unwrap();
-    // A KTX2 file's identifier (KHR_texture_basisu's images), no more.
-    std::fs::write(dir.join("basis.ktx2"), b"\xabKTX 20\xbb\r\n\x1a\n").unwrap();
+    // A GIF's identifier: an encoding smlt does not read.
+    std::fs::write(dir.join("image.gif"), b"GIF89a").unwrap();
     let mut doc = one_light_doc();
     doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
     doc["textures"] = json!([{"source": 0}, {"source": 1}]);
-    doc["images"] = json!([{"uri": "red.png"}, {"uri": "basis.ktx2"}]);
+    doc["images"] = json!([{"uri": "red.png"}, {"uri": "image.gif"}]);
     std::fs::write(dir.join("textured.gltf"), doc.to_string()).unwrap();
     let err = SceneData::load(&dir.join("textured.gltf")).unwrap_err().to_string();
     assert!(err.contains("meshes[0].primitives[0]") && err.contains("TEXCOORD_0"), "{err}");
@@ -1557,4 +1557,59 @@ fn blender_s_draco_export_loads_as_google_s_decoder_reads_it() {
     assert_eq!(draco.texcoords, decoded.texcoords);
     assert!(!draco.texcoords.is_empty() && !draco.normals.is_empty());
     assert_eq!(draco.punctual.len(), 3, "the point lamp, the spot and the sun");
+}
+
+/// KTX2 textures (`KHR_texture_basisu`, required) as Binomial's Basis Universal encoder writes
+/// them — the `textured` scene through `scripts/peers/ktx2_encode.mjs`: ETC1S with BasisLZ and
+/// every mip level, UASTC, UASTC with Zstandard (`tests/ktx2/PROVENANCE.md`) — load to exactly
+/// the texels Binomial's transcoder reads from them (each variant's `decoded/` twin, its images
+/// transcoded by three.js's build of it and written as PNG). Their sizes (a 4×1 and a 16×4 among
+/// them) and rows (one texture is not symmetric) are the images'.
+#[test]
+fn ktx2_textures_load_as_binomial_s_transcoder_reads_them() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ktx2");
+    let sizes = |s: &SceneData| s.textures.iter().map(|t| (t.width, t.height)).collect::<Vec<_>>();
+    let mut texels = Vec::new();
+    for variant in ["etc1s_mipmaps", "uastc", "uastc_zstd"] {
+        let ktx2 = SceneData::load(&root.join(variant).join("scene.gltf")).unwrap();
+        let decoded = SceneData::load(&root.join(variant).join("decoded/scene.gltf")).unwrap();
+        assert!(ktx2.warnings.is_empty(), "{variant}: {:?}", ktx2.warnings);
+        assert_eq!(sizes(&ktx2), [(8, 8), (16, 4), (4, 1), (4, 4)], "{variant}");
+        assert_eq!(ktx2.textures, decoded.textures, "{variant}");
+        assert_eq!(ktx2.material_textures, decoded.material_textures, "{variant}");
+        assert_eq!(ktx2.texels, decoded.texels, "{variant}");
+        texels.push(ktx2.texels);
+    }
+    assert_ne!(texels[0], texels[1], "ETC1S and UASTC decode differently");
+
+    // With a fallback `source` (the ETC1S twin's PNG, whose texels differ), the extension's
+    // KTX2 image is read; a KTX2 image cut in its level data, its key/value data or its header
+    // is refused in one line by its index.
+    let dir = std::env::temp_dir().join(format!("smlt-ktx2-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for entry in std::fs::read_dir(root.join("uastc")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_file() {
+            std::fs::copy(&path, dir.join(path.file_name().unwrap())).unwrap();
+        }
+    }
+    std::fs::copy(root.join("etc1s_mipmaps/decoded/baseColor_2.png"), dir.join("fallback.png")).unwrap();
+    let mut doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("scene.gltf")).unwrap()).unwrap();
+    doc.as_object_mut().unwrap().remove("extensionsRequired");
+    let images = doc["images"].as_array_mut().unwrap();
+    images.push(json!({"uri": "fallback.png"}));
+    let fallback = images.len() - 1;
+    for texture in doc["textures"].as_array_mut().unwrap() {
+        texture["source"] = json!(fallback);
+    }
+    std::fs::write(dir.join("fallback.gltf"), doc.to_string()).unwrap();
+    assert_eq!(SceneData::load(&dir.join("fallback.gltf")).unwrap().texels, texels[1]);
+    let bytes = std::fs::read(dir.join("baseColor_2.ktx2")).unwrap();
+    for (cut, said) in [(bytes.len() - 8, "does not decode"), (120, "key/value data"), (40, "cut short")] {
+        std::fs::write(dir.join("baseColor_2.ktx2"), &bytes[..cut]).unwrap();
+        let err = SceneData::load(&dir.join("scene.gltf")).unwrap_err().to_string();
+        assert!(err.contains("images[1]") && err.contains(said) && !err.contains('\n'), "{err}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

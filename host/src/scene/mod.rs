@@ -15,7 +15,8 @@
 //!   `KHR_materials_emissive_strength` → emission (one-sided, along the triangle's
 //!   counter-clockwise normal); the Phong exponent from the material's extras, key
 //!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness,
-//!   emissive and normal textures (`textures`; PNG, JPEG, and WebP with `EXT_texture_webp`), a
+//!   emissive and normal textures (`textures`; PNG, JPEG, WebP with `EXT_texture_webp`, KTX2 with
+//!   `KHR_texture_basisu`), a
 //!   normal texture in the mesh's `TANGENT`s or MikkTSpace's (`tangents`). Other material
 //!   extensions and textures change the image but are not modelled: each is named in a printed
 //!   warning;
@@ -34,6 +35,7 @@
 mod attributes;
 mod draco;
 mod environment;
+mod ktx2;
 mod lights;
 mod meshopt;
 mod parse;

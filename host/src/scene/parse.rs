@@ -75,13 +75,14 @@ pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, Sc
 /// Extensions that smlt reads itself, which the gltf crate does not know: the clear coat from
 /// the document's JSON, quantised attributes through `super::attributes`, WebP images in
 /// `super::textures`, compressed views in `super::meshopt`, compressed primitives in
-/// `super::draco`.
-pub const READ_BY_SMLT: [&str; 5] = [
+/// `super::draco`, KTX2 images in `super::ktx2`.
+pub const READ_BY_SMLT: [&str; 6] = [
     "KHR_materials_clearcoat",
     super::validate::MESH_QUANTIZATION,
     super::textures::WEBP,
     super::meshopt::EXTENSION,
     super::draco::EXTENSION,
+    super::ktx2::EXTENSION,
 ];
 
 /// Appends `bytes` to the document as a buffer of its own (decoded data: no URI), in `root` and

@@ -1,16 +1,17 @@
 //! glTF's textures read into the one texel store the kernels sample (`shared::texture`): each
-//! image decoded once (PNG and JPEG, the two the spec defines, and WebP, `EXT_texture_webp`'s,
-//! through the `image` crate) to RGBA8, each texture (an image with a sampler) once however many
-//! materials use it. Only the textures a material reads are loaded. A texture with
-//! `EXT_texture_webp` reads its WebP image, not its `source` (the spec's fallback for clients
-//! without the extension).
+//! image decoded once to RGBA8 (PNG and JPEG, the two the spec defines, and WebP,
+//! `EXT_texture_webp`'s, through the `image` crate; KTX2 with Basis Universal data,
+//! `KHR_texture_basisu`'s, through [`super::ktx2`]), each texture (an image with a sampler) once
+//! however many materials use it. Only the textures a material reads are loaded. A texture with
+//! one of the two extensions reads the extension's image, not its `source` (the spec's fallback
+//! for clients without the extension).
 //!
 //! What is read of a sampler: its wrap modes, and its magnification filter (NEAREST, or
 //! bilinear for LINEAR and by default); its minification filter is not (no mip-maps: a path
 //! tracer's pixel samples filter a minified texture, see `shared::texture`). An image in
-//! another encoding (KTX2, another extension's source) is not read: the texture is left out
-//! with a warning naming it, and its factor is used. An image that claims PNG, JPEG or WebP and
-//! does not decode is refused by name.
+//! another encoding (another extension's source) is not read: the texture is left out with a
+//! warning naming it, and its factor is used. An image that claims one of the four encodings
+//! and does not decode is refused by name.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -24,6 +25,9 @@ use super::SceneError;
 
 /// The extension whose texture source is a WebP image.
 pub const WEBP: &str = "EXT_texture_webp";
+
+/// The extensions that give a texture an image in place of its `source`, the first present read.
+const SOURCE_EXTENSIONS: [&str; 2] = [super::ktx2::EXTENSION, WEBP];
 
 /// The textures and texels read so far.
 #[derive(Default)]
@@ -223,14 +227,17 @@ impl TextureStore {
     ) -> Result<Option<u32>, SceneError> {
         let json = source.doc.as_json();
         let tex = &json.textures[texture];
-        let webp = tex.extensions.as_ref().and_then(|e| e.others.get(WEBP)).and_then(|w| w.get("source"));
-        let image = match webp {
-            Some(index) => match index.as_u64().filter(|&i| (i as usize) < json.images.len()) {
+        let extension = SOURCE_EXTENSIONS.iter().find_map(|&name| {
+            let others = &tex.extensions.as_ref()?.others;
+            Some((name, others.get(name)?.get("source")?))
+        });
+        let image = match extension {
+            Some((name, index)) => match index.as_u64().filter(|&i| (i as usize) < json.images.len()) {
                 Some(i) => i as usize,
                 None => {
                     return Err(SceneError::Malformed {
                         path: source.name.into(),
-                        what: format!("textures[{texture}].extensions.{WEBP}.source: {index} names no image"),
+                        what: format!("textures[{texture}].extensions.{name}.source: {index} names no image"),
                     })
                 }
             },
@@ -309,6 +316,15 @@ impl TextureStore {
         } else {
             return Err(malformed(format!("{at}: neither a uri nor a bufferView")));
         };
+        if super::ktx2::is_ktx2(&bytes) {
+            let decoded = super::ktx2::decode(&bytes).map_err(|e| match e {
+                super::ktx2::Ktx2Error::Malformed(what) => malformed(format!("{at}: {what}")),
+                super::ktx2::Ktx2Error::Unsupported(what) => {
+                    SceneError::Unsupported { path: source.name.into(), what: format!("{at}: {what}") }
+                }
+            })?;
+            return self.push(source, &at, decoded.width, decoded.height, &decoded.rgba).map(Some);
+        }
         let format = match image::guess_format(&bytes) {
             Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg | image::ImageFormat::WebP)) => f,
             other => {
@@ -319,7 +335,8 @@ impl TextureStore {
                     .or_else(|| other.ok().map(|f| format!("{f:?}")))
                     .unwrap_or_else(|| "an encoding that is neither PNG, JPEG nor WebP".into());
                 warnings.push(format!(
-                    "{at} (used by {slot}) is {named}; smlt reads PNG, JPEG and WebP: the texture is left out and its factor used"
+                    "{at} (used by {slot}) is {named}; smlt reads PNG, JPEG, WebP and KTX2 (Basis Universal): \
+                     the texture is left out and its factor used"
                 ));
                 return Ok(None);
             }
@@ -328,6 +345,19 @@ impl TextureStore {
             .map_err(|e| malformed(format!("{at}: its {format:?} data does not decode: {e}")))?;
         let rgba = decoded.to_rgba8();
         let (width, height) = rgba.dimensions();
+        self.push(source, &at, width, height, rgba.as_raw()).map(Some)
+    }
+
+    /// Appends the `width` × `height` RGBA8 texels `rgba` (rows top first) of image `at` to the
+    /// store: their (offset, width, height).
+    fn push(
+        &mut self,
+        source: &Source,
+        at: &str,
+        width: u32,
+        height: u32,
+        rgba: &[u8],
+    ) -> Result<(u32, u32, u32), SceneError> {
         let offset = self.texels.len();
         if offset + (width as usize) * (height as usize) > u32::MAX as usize {
             return Err(SceneError::Unsupported {
@@ -335,8 +365,8 @@ impl TextureStore {
                 what: format!("{at}: the textures hold more than 2³² texels"),
             });
         }
-        self.texels.extend(rgba.pixels().map(|p| u32::from_le_bytes(p.0)));
-        Ok(Some((offset as u32, width, height)))
+        self.texels.extend(rgba.as_chunks::<4>().0.iter().map(|&p| u32::from_le_bytes(p)));
+        Ok((offset as u32, width, height))
     }
 }
 
