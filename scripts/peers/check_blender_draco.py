@@ -26,10 +26,9 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import blender_round_trip  # noqa: E402
-from check_optimised import compare, node_modules, run  # noqa: E402
+from check_optimised import compare, node_modules, run, smlt_binary, smlt_reference  # noqa: E402
 from cycles_peer import read_exr  # noqa: E402
 
 
@@ -41,7 +40,7 @@ def main():
     ap.add_argument("--width", type=int, default=160)
     ap.add_argument("--height", type=int, default=120)
     a = ap.parse_args()
-    smlt = os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target")), "release", "smlt")
+    smlt = smlt_binary()
     size = ["--width", str(a.width), "--height", str(a.height), "--max-depth", "10"]
     files = {}
     for key in ("plain", "draco"):
@@ -55,12 +54,10 @@ def main():
 
     def reference(key, seed=1):
         exr = os.path.join(a.out, f"smlt_{key}_{seed}.exr")
-        log = run([smlt, "reference", files[key], "--device", "cpu", "--spp", str(a.spp), "--seed", str(seed),
-                   "--out", exr, *size])
-        for line in log.splitlines():
-            if "warning" in line.lower():
-                print(f"  smlt warned on {key}: {line.strip()}")
-        return read_exr(exr)
+        image, warnings = smlt_reference(smlt, files[key], exr, a.spp, seed, size)
+        for line in warnings:
+            print(f"  smlt warned on {key}: {line}")
+        return image
 
     import bpy
 

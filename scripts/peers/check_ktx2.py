@@ -30,10 +30,8 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
-import blender_round_trip  # noqa: E402
-from check_optimised import compare, node_modules, run  # noqa: E402
+from check_optimised import compare, node_modules, run, smlt_binary, smlt_reference  # noqa: E402
 from cycles_peer import read_exr  # noqa: E402
 
 VARIANTS = {"etc1s": ["--mipmaps"], "uastc_zstd": ["--uastc", "--zstd"]}
@@ -64,7 +62,7 @@ def main():
     ap.add_argument("--width", type=int, default=128)
     ap.add_argument("--height", type=int, default=96)
     a = ap.parse_args()
-    smlt = os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target")), "release", "smlt")
+    smlt = smlt_binary()
     size = ["--width", str(a.width), "--height", str(a.height), "--max-depth", "10"]
     env = {**os.environ, "NODE_PATH": node_modules()}
     import bpy
@@ -83,12 +81,10 @@ def main():
 
         def reference(key, seed=1):
             exr = os.path.join(folder, f"smlt_{key}_{seed}.exr")
-            log = run([smlt, "reference", files[key], "--device", "cpu", "--spp", str(a.spp), "--seed", str(seed),
-                       "--out", exr, *size])
-            for line in log.splitlines():
-                if "warning" in line.lower():
-                    print(f"  smlt warned on {key}: {line.strip()}")
-            return read_exr(exr)
+            image, warnings = smlt_reference(smlt, files[key], exr, a.spp, seed, size)
+            for line in warnings:
+                print(f"  smlt warned on {key}: {line}")
+            return image
 
         images = {key: reference(key) for key in files}
         noise = compare(reference("float", 2), images["float"])[1]

@@ -96,6 +96,19 @@ def attribute_types(path):
     return {k: "/".join(sorted(v)) for k, v in sorted(out.items())}
 
 
+def smlt_binary():
+    """The release build of smlt (CARGO_TARGET_DIR honoured)."""
+    return os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target")), "release", "smlt")
+
+
+def smlt_reference(smlt, path, exr, spp, seed, size):
+    """`smlt reference` of `path` on the CPU (`size` its size flags) written to `exr`: the image and
+    the warning lines smlt printed."""
+    log = run([smlt, "reference", path, "--device", "cpu", "--spp", str(spp), "--seed", str(seed), "--out", exr,
+               *size])
+    return read_exr(exr), [line.strip() for line in log.splitlines() if "warning" in line.lower()]
+
+
 def compare(image, against):
     """Mean difference (per cent of `against`'s mean) and RMSE."""
     rmse = float(np.sqrt(((image - against) ** 2).mean()))
@@ -113,7 +126,7 @@ def main():
     ap.add_argument("--no-cycles", action="store_true")
     ap.add_argument("--no-default-scenes", action="store_true", help="only the --scene ones")
     a = ap.parse_args()
-    smlt = os.path.join(os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target")), "release", "smlt")
+    smlt = smlt_binary()
     gltfpack, transform = tool("GLTFPACK", "gltfpack"), tool("GLTF_TRANSFORM", "gltf-transform")
     size = ["--width", str(a.width), "--height", str(a.height), "--max-depth", str(a.max_depth)]
     print(f"gltfpack {run([gltfpack, '-v']).split()[1]}, glTF-Transform {run([transform, '--version']).strip()}; "
@@ -146,11 +159,7 @@ def main():
             env={**os.environ, "NODE_PATH": node_modules()})
 
         def reference(key, seed=1):
-            exr = os.path.join(folder, f"smlt_{key}_{seed}.exr")
-            log = run([smlt, "reference", paths[key], "--device", "cpu", "--spp", str(a.spp), "--seed", str(seed),
-                       "--out", exr, *size])
-            warnings = [line for line in log.splitlines() if "warning" in line.lower()]
-            return read_exr(exr), warnings
+            return smlt_reference(smlt, paths[key], os.path.join(folder, f"smlt_{key}_{seed}.exr"), a.spp, seed, size)
 
         images, warned = {}, {}
         for key in paths:
