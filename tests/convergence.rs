@@ -15,7 +15,7 @@ use smlt::render::{
     self, cpu::CpuBackend, gpu::GpuBackend, Backend, Budget, ChainSettings, Integrator, Method, Rendered,
     Settings,
 };
-use smlt::scene::{CameraSpec, SceneData, TriangleSoup};
+use smlt::scene::{CameraSpec, SceneData, TriangleSoup, View};
 
 fn settings(size: u32, max_depth: u32, mpp: f64, candidates: u32, bootstrap: u32) -> Settings {
     let chains = ChainSettings { bootstrap_samples: bootstrap, ..Default::default() };
@@ -301,7 +301,13 @@ fn lit_floor(light: PunctualLight) -> SceneData {
     let position = Vec3::new(0.0, 3.0, 3.0);
     let forward = (-position).normalize();
     let up = (Vec3::Y - forward * Vec3::Y.dot(forward)).normalize();
-    soup.cameras.push(CameraSpec { position, forward, up, yfov: 60f32.to_radians(), aspect: None });
+    soup.cameras.push(View::Perspective(CameraSpec {
+        position,
+        forward,
+        up,
+        yfov: 60f32.to_radians(),
+        aspect: None,
+    }));
     SceneData::from_soup(soup, "lit floor").expect("lit floor")
 }
 

@@ -7,7 +7,7 @@ use serde_json::{json, Value};
 use shared::bsdf::Material;
 use shared::ray_caster::{Hit, RayCaster, NO_HIT};
 use shared::triangle::intersect_triangle;
-use smlt::scene::{SceneData, SceneError, TriangleSoup};
+use smlt::scene::{SceneData, SceneError, TriangleSoup, View};
 use smlt::scenes::GltfBuilder;
 
 fn one_light_doc() -> Value {
@@ -74,6 +74,55 @@ fn node_transforms_and_the_camera() {
     assert!((c.forward - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-5);
     assert!((c.up - Vec3::Y).length() < 1e-5);
     assert_eq!(c.yfov, 0.5);
+}
+
+/// An orthographic camera (Blender's exporter writes every camera of the scene) does not refuse
+/// the file: it is named in a warning and refused as a view, the render without `--view` sees
+/// the first perspective camera, and a file whose cameras are all orthographic the default
+/// framing. A broken one is still refused by path.
+#[test]
+fn orthographic_cameras_are_views_smlt_refuses_not_files() {
+    let mut doc = one_light_doc();
+    let ortho =
+        json!({"type": "orthographic", "orthographic": {"xmag": 2, "ymag": 1.5, "znear": 0, "zfar": 100}});
+    doc["cameras"].as_array_mut().unwrap().insert(0, ortho.clone());
+    // The perspective camera is cameras[1] now, and the orthographic one's node comes first.
+    for node in doc["nodes"].as_array_mut().unwrap() {
+        if node.get("camera").is_some() {
+            node["camera"] = json!(1);
+        }
+    }
+    doc["nodes"].as_array_mut().unwrap().push(json!({"camera": 0, "translation": [0, 0, 9]}));
+    let last = doc["nodes"].as_array().unwrap().len() - 1;
+    doc["scenes"][0]["nodes"].as_array_mut().unwrap().insert(0, json!(last));
+    let mut scene = load(&doc).unwrap();
+    assert_eq!(scene.views.len(), 2);
+    assert!(matches!(scene.views[0], View::Orthographic { camera: 0 }), "{:?}", scene.views);
+    let warned: Vec<_> = scene.warnings.iter().filter(|w| w.contains("orthographic")).collect();
+    assert!(warned.len() == 1 && warned[0].contains("cameras[0] (view 1"), "{:?}", scene.warnings);
+    assert_eq!(scene.default_view(), 2);
+    assert!((scene.camera.position - Vec3::new(0.0, 0.0, 5.0)).length() < 1e-5, "the perspective camera");
+    let err = scene.select_view(1).unwrap_err().to_string();
+    assert!(err.contains("view 1 is cameras[0], an orthographic camera"), "{err}");
+    scene.select_view(2).unwrap();
+
+    // Only the orthographic camera: the default framing, looking down −Z.
+    let mut only = doc.clone();
+    only["cameras"] = json!([ortho]);
+    only["nodes"].as_array_mut().unwrap().retain(|n| n.get("camera") != Some(&json!(1)));
+    only["scenes"][0]["nodes"] = json!((0..only["nodes"].as_array().unwrap().len()).collect::<Vec<_>>());
+    let scene = load(&only).unwrap();
+    assert_eq!(scene.default_view(), 0);
+    assert!((scene.camera.forward - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
+
+    for (key, value, said) in
+        [("xmag", json!(0), "neither may be zero"), ("zfar", json!(-1), "0 ≤ znear < zfar")]
+    {
+        let mut broken = doc.clone();
+        broken["cameras"][0]["orthographic"][key] = value;
+        let err = load(&broken).unwrap_err().to_string();
+        assert!(err.contains("cameras[0].orthographic") && err.contains(said), "{err}");
+    }
 }
 
 #[test]

@@ -115,9 +115,10 @@ pub struct SceneArgs {
     /// slit, lamps, caustic, materials, textured, smooth, cutout); the embedded Cornell box when
     /// absent.
     pub scene: Option<PathBuf>,
-    /// Which of the scene's cameras to use (1 = the first).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
-    pub view: u32,
+    /// Which of the scene's cameras to use (1 = the first; default: its first perspective
+    /// camera, or a framing of the whole scene when it has none).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub view: Option<u32>,
     #[command(flatten)]
     #[allow(missing_docs)] // flattened: documented on EnvironmentArgs
     pub environment: EnvironmentArgs,
@@ -150,6 +151,11 @@ impl EnvironmentArgs {
 }
 
 impl SceneArgs {
+    /// The view rendered: `--view`'s, or the scene's default ([`SceneData::default_view`]).
+    pub fn view(&self, scene: &SceneData) -> u32 {
+        self.view.unwrap_or_else(|| scene.default_view())
+    }
+
     /// The scene at its view, lit by the environment asked for, and the hash of its files
     /// (and of the environment); prints the loader's warnings.
     pub fn load(&self) -> anyhow::Result<(SceneData, String)> {
@@ -157,7 +163,9 @@ impl SceneArgs {
         let environment = self.environment.spec();
         let (_, mut scene, hash) =
             smlt::scenes::open_with_environment(name.as_deref(), 1, environment.as_ref())?;
-        scene.select_view(self.view)?;
+        if let Some(view) = self.view {
+            scene.select_view(view)?;
+        }
         for w in &scene.warnings {
             eprintln!("warning: {}: {w}", scene.name);
         }

@@ -36,7 +36,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     smlt::output::check_writable(&a.out)?;
     let (scene, scene_hash) = a.scene.load()?;
     let settings = ReferenceSettings {
-        scene: format!("{} view {}", scene.name, a.scene.view),
+        scene: format!("{} view {}", scene.name, a.scene.view(&scene)),
         scene_hash,
         width: a.image.width,
         height: a.image.height(&scene),

@@ -253,7 +253,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let written = match a.shard {
         Some(shard) => {
             let recorded = Settings { budget: asked.budget, ..settings.clone() };
-            let identity = smlt::part::Identity::new(&scene.name, &scene_hash, a.scene.view, &recorded);
+            let identity =
+                smlt::part::Identity::new(&scene.name, &scene_hash, a.scene.view(&scene), &recorded);
             let identity = if chosen.is_some() { identity.chosen_by_auto() } else { identity };
             smlt::part::write_part(&out, &identity, shard, &result, &backend.describe())?;
             format!("part {shard}: {} (combine the parts with smlt merge)", out.display())

@@ -22,11 +22,13 @@
 //!   warning;
 //! - punctual lights (`KHR_lights_punctual`: point, spot, directional) on their nodes, in
 //!   Blender's units (`lights`);
-//! - perspective cameras, in the order of a depth-first walk of the scene: view 1 is the first
-//!   (`--view N` picks another; each node looks down −Z with +Y up; the image aspect comes from
-//!   the render's width/height). Without one, the documented default: a 40° vertical field of
-//!   view looking down −Z at the centre of the scene's bounding box, from where the box's
-//!   larger side fills the view.
+//! - cameras, in the order of a depth-first walk of the scene: the views `--view N` names,
+//!   the first perspective one rendered without `--view` (each node looks down −Z with +Y up;
+//!   the image aspect comes from the render's width/height). smlt's camera is a pinhole: an
+//!   orthographic camera is named in a warning and refused as a view, not as a file (Blender's
+//!   exporter writes every camera of the scene). Without a perspective camera, the documented
+//!   default: a 40° vertical field of view looking down −Z at the centre of the scene's bounding
+//!   box, from where the box's larger side fills the view.
 //!
 //! Besides the file, a render may be given an environment light (`--environment`,
 //! [`EnvironmentSpec`]): it is picked with the file's lights, its light subpaths start on the
@@ -143,6 +145,19 @@ pub struct CameraSpec {
     pub aspect: Option<f32>,
 }
 
+/// One of the file's cameras: a view `--view` may name.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum View {
+    /// A perspective camera: rendered.
+    Perspective(CameraSpec),
+    /// An orthographic camera, glTF's `cameras[camera]`: named, not rendered (smlt's camera is a
+    /// pinhole).
+    Orthographic {
+        #[allow(missing_docs)]
+        camera: usize,
+    },
+}
+
 /// A scene ready for rendering.
 #[derive(Clone, Debug)]
 pub struct SceneData {
@@ -189,7 +204,7 @@ pub struct SceneData {
     /// The camera of the selected view.
     pub camera: CameraSpec,
     /// Every perspective camera of the file, in scene order (views 1, 2, …).
-    pub views: Vec<CameraSpec>,
+    pub views: Vec<View>,
     /// Bounding box of all triangles.
     pub bounds: (Vec3, Vec3),
     /// Things the renderer ignored that change the image.
@@ -223,8 +238,8 @@ pub struct TriangleSoup {
     /// The file's punctual lights in world space (a directional light's centre and radius are
     /// set from the scene's bounds when the scene is built).
     pub punctual: Vec<PunctualLight>,
-    /// The file's perspective cameras, in scene order.
-    pub cameras: Vec<CameraSpec>,
+    /// The file's cameras, in scene order.
+    pub cameras: Vec<View>,
     /// The environment light the render was given (not the file's: glTF has none).
     pub environment: Option<EnvironmentMap>,
     /// Ignored content.
@@ -327,20 +342,35 @@ impl SceneData {
         }
     }
 
-    /// Selects view `view` (1-based) among the file's cameras.
+    /// The view a render without `--view` sees: the first perspective camera's number (1-based);
+    /// 1 for a file without cameras (view 1 is then the default framing, as `select_view` takes
+    /// it); 0 for the default framing of a file whose cameras are all orthographic.
+    pub fn default_view(&self) -> u32 {
+        if self.views.is_empty() {
+            return 1;
+        }
+        self.views.iter().position(|v| matches!(v, View::Perspective(_))).map_or(0, |i| i as u32 + 1)
+    }
+
+    /// Selects view `view` (1-based) among the file's cameras (without it, the scene's camera is
+    /// its first perspective one, or the default framing).
     pub fn select_view(&mut self, view: u32) -> Result<(), SceneError> {
         if view == 1 && self.views.is_empty() {
             return Ok(()); // the default camera
         }
+        let refuse = |what: String| SceneError::Unsupported { path: self.name.clone(), what };
         match self.views.get(view.wrapping_sub(1) as usize) {
-            Some(c) => {
+            Some(View::Perspective(c)) => {
                 self.camera = *c;
                 Ok(())
             }
-            None => Err(SceneError::Unsupported {
-                path: self.name.clone(),
-                what: format!("view {view} requested, but the scene has {} camera(s)", self.views.len()),
-            }),
+            Some(View::Orthographic { camera }) => Err(refuse(format!(
+                "view {view} is cameras[{camera}], an orthographic camera; smlt renders perspective cameras"
+            ))),
+            None => Err(refuse(format!(
+                "view {view} requested, but the scene has {} camera(s)",
+                self.views.len()
+            ))),
         }
     }
 
@@ -466,7 +496,14 @@ impl SceneData {
         for (t, pdf) in triangles.iter_mut().zip(pdf) {
             t.light_area_pdf = pdf;
         }
-        let camera = soup.cameras.first().copied().unwrap_or_else(|| default_camera(lo, hi));
+        let camera = soup
+            .cameras
+            .iter()
+            .find_map(|v| match v {
+                View::Perspective(c) => Some(*c),
+                View::Orthographic { .. } => None,
+            })
+            .unwrap_or_else(|| default_camera(lo, hi));
         // Texture coordinates in the BVH's order, where a material reads them; every texture
         // buffer holds at least one element.
         let textured = soup.materials.iter().any(|m| m.textures != 0);

@@ -16,7 +16,7 @@ use super::attributes;
 use super::parse::{parse, Parsed};
 use super::tangents;
 use super::textures::{Source, TextureStore};
-use super::{CameraSpec, SceneData, SceneError, TriangleSoup};
+use super::{CameraSpec, SceneData, SceneError, TriangleSoup, View};
 
 /// The material-extras key holding the Phong exponent, e.g. `"extras": {"smlt_phong_exponent": 1e5}`.
 pub const PHONG_EXPONENT_KEY: &str = "smlt_phong_exponent";
@@ -632,19 +632,23 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                                 ),
                             });
                         }
-                        soup.cameras.push(CameraSpec {
+                        soup.cameras.push(View::Perspective(CameraSpec {
                             position,
                             forward,
                             up: (up - forward * up.dot(forward)).normalize(),
                             yfov: p.yfov(),
                             aspect: p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0),
-                        });
+                        }));
                     }
                     gltf::camera::Projection::Orthographic(_) => {
-                        return Err(SceneError::Unsupported {
-                            path: name.into(),
-                            what: "orthographic cameras are not supported (use a perspective camera)".into(),
-                        });
+                        let view = soup.cameras.len() + 1;
+                        soup.warnings.push(format!(
+                            "cameras[{}] (view {view}, on nodes[{}]) is orthographic: smlt renders perspective \
+                             cameras, so it is not rendered (--view {view} is refused)",
+                            cam.index(),
+                            node.index()
+                        ));
+                        soup.cameras.push(View::Orthographic { camera: cam.index() });
                     }
                 }
             }

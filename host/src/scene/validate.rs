@@ -180,6 +180,18 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
                 }
             }
         }
+        if let Some(o) = camera.get("orthographic") {
+            // Not rendered, but read: a broken one names the file broken.
+            let at = format!("cameras[{c}].orthographic");
+            let get = |key: &str| number(o, key, &at)?.ok_or(format!("{at}: no {key}"));
+            let (xmag, ymag, zfar, znear) = (get("xmag")?, get("ymag")?, get("zfar")?, get("znear")?);
+            if xmag == 0.0 || ymag == 0.0 {
+                return Err(format!("{at}: xmag {xmag} and ymag {ymag}: neither may be zero"));
+            }
+            if !(znear >= 0.0 && zfar > znear) {
+                return Err(format!("{at}: znear {znear} and zfar {zfar}: the spec asks 0 ≤ znear < zfar"));
+            }
+        }
     }
     for (m, material) in list("materials").iter().enumerate() {
         let at = format!("materials[{m}]");
