@@ -8,7 +8,9 @@
 //! a 2D image (no depth, array layers or cube faces), `KTXorientation` `rd` or absent (rows top
 //! first, as glTF's uv reads them), `KTXswizzle` `rgba` or absent, ETC1S or UASTC (LDR) data. An
 //! image larger than the `image` crate lets a PNG be (512 MiB of RGBA8), or a Zstandard level
-//! whose inflated size is not its blocks', is refused before it is transcoded. Its DFD's transfer function
+//! whose inflated size is not its blocks', is refused before it is transcoded; the caller runs
+//! [`decode`] guarded (`super::read::guarded`), so that a panic in the young transcoder is a
+//! refusal in one line too. Its DFD's transfer function
 //! is not read: as for a PNG, the material slot that samples a texture says whether its values
 //! are sRGB-encoded (the spec asks the two to agree).
 

@@ -44,15 +44,16 @@ impl SceneData {
             .map_err(|e| SceneError::Load { path: name.clone(), reason: e.to_string() })?;
         precheck(&bytes, &name)?;
         let base = path.parent().unwrap_or(Path::new("."));
-        let parsed = guarded(&name, || parse(&bytes, &name, Some(base)))?.map_err(|e| {
-            match (&e, missing_resource(path)) {
-                (SceneError::Load { .. }, Some(uri)) => SceneError::Load {
-                    path: name.clone(),
-                    reason: format!("the file it refers to, '{uri}', does not exist"),
-                },
-                _ => e,
-            }
-        })?;
+        let parsed =
+            guarded(&name, "the glTF reader", || parse(&bytes, &name, Some(base)))?.map_err(|e| {
+                match (&e, missing_resource(path)) {
+                    (SceneError::Load { .. }, Some(uri)) => SceneError::Load {
+                        path: name.clone(),
+                        reason: format!("the file it refers to, '{uri}', does not exist"),
+                    },
+                    _ => e,
+                }
+            })?;
         Self::from_parsed(parsed, &name, Some(base), environment)
     }
 
@@ -68,7 +69,7 @@ impl SceneData {
         environment: Option<EnvironmentMap>,
     ) -> Result<Self, SceneError> {
         precheck(bytes, name)?;
-        let parsed = guarded(name, || parse(bytes, name, None))??;
+        let parsed = guarded(name, "the glTF reader", || parse(bytes, name, None))??;
         Self::from_parsed(parsed, name, None, environment)
     }
 
@@ -95,11 +96,12 @@ impl SceneData {
     }
 }
 
-/// Runs the gltf crate's parsing on `f`, turning a panic inside it (seen: its validation
-/// indexes `accessors` with a primitive's POSITION before checking it) into an error.
-/// The panic's own report is held back meanwhile, so that the error is the one line it makes
+/// Runs a third-party reader, `reader` (for the message), on `f`, turning a panic inside it
+/// into an error: the gltf crate's parsing (seen: its validation indexes `accessors` with a
+/// primitive's POSITION before checking it), and the young decoders of compressed data. The
+/// panic's own report is held back meanwhile, so that the error is the one line it makes
 /// (imports take turns, as the report hook is the process's).
-fn guarded<T>(name: &str, f: impl FnOnce() -> T) -> Result<T, SceneError> {
+pub(super) fn guarded<T>(name: &str, reader: &str, f: impl FnOnce() -> T) -> Result<T, SceneError> {
     static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _turn = TURN.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let report = std::panic::take_hook();
@@ -112,7 +114,7 @@ fn guarded<T>(name: &str, f: impl FnOnce() -> T) -> Result<T, SceneError> {
             .cloned()
             .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
             .unwrap_or_default();
-        SceneError::Malformed { path: name.into(), what: format!("the glTF reader failed on it ({message})") }
+        SceneError::Malformed { path: name.into(), what: format!("{reader} failed on it ({message})") }
     })
 }
 

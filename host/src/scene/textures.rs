@@ -317,7 +317,9 @@ impl TextureStore {
             return Err(malformed(format!("{at}: neither a uri nor a bufferView")));
         };
         if super::ktx2::is_ktx2(&bytes) {
-            let decoded = super::ktx2::decode(&bytes).map_err(|e| match e {
+            let transcoder = format!("{at}: the KTX2 transcoder");
+            let decoded = super::read::guarded(source.name, &transcoder, || super::ktx2::decode(&bytes))?;
+            let decoded = decoded.map_err(|e| match e {
                 super::ktx2::Ktx2Error::Malformed(what) => malformed(format!("{at}: {what}")),
                 super::ktx2::Ktx2Error::Unsupported(what) => {
                     SceneError::Unsupported { path: source.name.into(), what: format!("{at}: {what}") }
