@@ -2,6 +2,7 @@
 
 mod common;
 
+use base64::Engine;
 use glam::Vec3;
 use serde_json::{json, Value};
 use shared::bsdf::Material;
@@ -74,6 +75,122 @@ fn node_transforms_and_the_camera() {
     assert!((c.forward - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-5);
     assert!((c.up - Vec3::Y).length() < 1e-5);
     assert_eq!(c.yfov, 0.5);
+}
+
+/// Morph targets (Blender's shape keys) move the vertices by their weights: the node's, else the
+/// mesh's; no weights, the base mesh. A displaced normal is normalised again; a weight count that
+/// is not the targets' is refused by path.
+#[test]
+fn morph_targets_move_the_mesh_by_their_weights() {
+    let mut doc = one_light_doc();
+    let position = doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"].as_u64().unwrap() as usize;
+    let n = doc["accessors"][position]["count"].as_u64().unwrap() as usize;
+    // One target: every vertex up +z by 1, every normal tilted by +x; and the base normals
+    // (the quad faces +z).
+    let data: Vec<u8> = [[0f32, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+        .iter()
+        .flat_map(|d| std::iter::repeat_n(*d, n))
+        .flat_map(|d| d.map(f32::to_le_bytes))
+        .flatten()
+        .collect();
+    let buffer = doc["buffers"].as_array().unwrap().len();
+    doc["buffers"].as_array_mut().unwrap().push(json!({
+        "byteLength": data.len(),
+        "uri": format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&data))
+    }));
+    let views = doc["bufferViews"].as_array().unwrap().len();
+    let accessors = doc["accessors"].as_array().unwrap().len();
+    for k in 0..3 {
+        doc["bufferViews"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({"buffer": buffer, "byteOffset": 12 * n * k, "byteLength": 12 * n}));
+        let (min, max) = [([0, 0, 1], [0, 0, 1]), ([1, 0, 0], [1, 0, 0]), ([0, 0, 1], [0, 0, 1])][k];
+        doc["accessors"].as_array_mut().unwrap().push(json!({
+            "bufferView": views + k, "componentType": 5126, "count": n, "type": "VEC3", "min": min, "max": max
+        }));
+    }
+    doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = json!(accessors + 2);
+    let base = load(&doc).unwrap();
+    assert!(base.normals.iter().all(|n| n.n == [0.0; 9]), "flat: no bent normal stored");
+    doc["meshes"][0]["primitives"][0]["targets"] = json!([{"POSITION": accessors, "NORMAL": accessors + 1}]);
+    let unweighted = load(&doc).unwrap();
+    assert_eq!(unweighted.triangles, base.triangles, "no weights: the base mesh");
+    let moved = |scene: &SceneData| {
+        let (t, b) = (&scene.triangles[0], &base.triangles[0]);
+        Vec3::from_array(t.v0) - Vec3::from_array(b.v0)
+    };
+    doc["meshes"][0]["weights"] = json!([0.5]);
+    let half = load(&doc).unwrap();
+    let node = doc["nodes"].as_array().unwrap().iter().position(|n| n["mesh"] == json!(0)).unwrap();
+    doc["nodes"][node]["weights"] = json!([1.0]);
+    let full = load(&doc).unwrap();
+    // The lamp quad's node transform is the identity (one_light_doc).
+    assert!((moved(&half) - Vec3::new(0.0, 0.0, 0.5)).length() < 1e-6, "{}", moved(&half));
+    assert!((moved(&full) - Vec3::Z).length() < 1e-6, "the node's weights win: {}", moved(&full));
+    // The quad faces +z; its normals, given, tilt by +x once displaced: (0, 0, 1) + (1, 0, 0).
+    let n = full.normals.iter().find(|n| n.n != [0.0; 9]).expect("bent normals");
+    let expected = Vec3::new(1.0, 0.0, 1.0).normalize();
+    assert!((Vec3::from_slice(&n.n[..3]) - expected).length() < 1e-6, "{:?}", n.n);
+    doc["nodes"][node]["weights"] = json!([1.0, 0.0]);
+    let err = load(&doc).unwrap_err().to_string();
+    assert!(err.contains("meshes[0].primitives[0]: 2 morph weights for its 1 morph targets"), "{err}");
+}
+
+/// Blender's shape keys as its exporter writes them (`tests/morph/targets`: the round-trip
+/// scene's white ball with "squash" at 0.7 and "lift" at 0, two morph targets with those
+/// weights) load to the geometry of Blender's own evaluation of the same keys
+/// (`tests/morph/baked`: the ball's mesh made from the mix, no keys; `tests/morph/PROVENANCE.md`).
+#[test]
+fn blender_s_shape_keys_load_as_blender_evaluates_them() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/morph");
+    let targets = SceneData::load(&root.join("targets/round_trip.gltf")).unwrap();
+    let baked = SceneData::load(&root.join("baked/round_trip.gltf")).unwrap();
+    assert!(targets.warnings.is_empty(), "{:?}", targets.warnings);
+    assert_eq!(targets.triangles.len(), baked.triangles.len());
+    let mut largest = 0f32;
+    for (t, b) in targets.triangles.iter().zip(&baked.triangles) {
+        for (p, q) in [(t.v0, b.v0), (t.v1, b.v1), (t.v2, b.v2)] {
+            largest = largest.max((Vec3::from_array(p) - Vec3::from_array(q)).abs().max_element());
+        }
+    }
+    assert!(largest < 1e-5, "vertices {largest} m apart");
+    // And not the base sphere: without its weights the file loads the keys' basis.
+    let mut doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("targets/round_trip.gltf")).unwrap())
+            .unwrap();
+    for mesh in doc["meshes"].as_array_mut().unwrap() {
+        mesh.as_object_mut().unwrap().remove("weights");
+    }
+    let dir = std::env::temp_dir().join(format!("smlt-morph-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(root.join("targets/round_trip.bin"), dir.join("round_trip.bin")).unwrap();
+    std::fs::write(dir.join("basis.gltf"), doc.to_string()).unwrap();
+    let base = SceneData::load(&dir.join("basis.gltf")).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let moved = targets
+        .triangles
+        .iter()
+        .zip(&base.triangles)
+        .map(|(t, b)| (Vec3::from_array(t.v0) - Vec3::from_array(b.v0)).length())
+        .fold(0f32, f32::max);
+    assert!(moved > 0.1, "the squash moves the ball's vertices by {moved} m");
+    // The ball is flat-shaded: Blender's normals are its faces'. Its targets' NORMAL
+    // displacements, added and normalised again as the spec says, lean off the squashed faces'
+    // normals a little (a blend of unit normals is not the blended face's normal).
+    let mut widest = 0f32;
+    for (t, n) in targets.triangles.iter().zip(&targets.normals) {
+        if n.n == [0.0; 9] {
+            continue;
+        }
+        let [a, b, c] = [t.v0, t.v1, t.v2].map(Vec3::from_array);
+        let face = (b - a).cross(c - a).normalize();
+        for k in 0..3 {
+            widest = widest.max(Vec3::from_slice(&n.n[3 * k..3 * k + 3]).angle_between(face).to_degrees());
+        }
+    }
+    assert!(widest < 5.0, "normals {widest}° off their faces");
+    println!("the displaced normals lie within {widest:.2}° of their faces");
 }
 
 /// An orthographic camera (Blender's exporter writes every camera of the scene) does not refuse
@@ -662,7 +779,6 @@ fn vertex_normals(scene: &SceneData) -> Vec<Vec3> {
 /// refused by name.
 #[test]
 fn normals_follow_the_inverse_transpose_and_bad_ones_are_refused() {
-    use base64::Engine;
     let lean = Vec3::new(1.0, 0.0, 1.0).normalize();
     let cases = [
         (json!({}), lean),
@@ -818,7 +934,6 @@ fn a_normal_texture_loads_and_bends_the_shading_normal() {
 
 /// `doc` with a VEC4 float attribute `TANGENT` on its first primitive, one `tangent` a vertex.
 fn with_tangents(mut doc: Value, tangent: [f32; 4]) -> Value {
-    use base64::Engine;
     let prim = &doc["meshes"][0]["primitives"][0];
     let vertices = doc["accessors"][prim["attributes"]["POSITION"].as_u64().unwrap() as usize]["count"]
         .as_u64()
@@ -1034,7 +1149,6 @@ fn accessor_floats(doc: &Value, k: usize) -> Vec<f32> {
 /// translation and scale); normals and tangents as normalised signed bytes, each element padded
 /// to 4 bytes; TEXCOORD_0 as normalised signed shorts (the builder's planar ones lie in [−1, 1]).
 fn quantized(doc: &Value, origin: Vec3, step: f32) -> Value {
-    use base64::Engine;
     let mut out = doc.clone();
     let mut bytes: Vec<u8> = Vec::new();
     let buffer = out["buffers"].as_array().unwrap().len();
@@ -1174,7 +1288,6 @@ fn quantized_attributes_load_as_the_floats_they_encode() {
 
 /// A `data:` URI of `bytes` as `mime`.
 fn data_uri(mime: &str, bytes: &[u8]) -> String {
-    use base64::Engine;
     format!("data:{mime};base64,{}", base64::engine::general_purpose::STANDARD.encode(bytes))
 }
 
@@ -1238,7 +1351,6 @@ fn webp_textures_read_the_extensions_image() {
 
 /// The bytes of a base64 `data:` URI.
 fn buffer_of_uri(uri: &str) -> Vec<u8> {
-    use base64::Engine;
     base64::engine::general_purpose::STANDARD.decode(uri.split_once(',').unwrap().1).unwrap()
 }
 

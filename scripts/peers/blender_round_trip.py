@@ -131,7 +131,11 @@ def checker_image(bpy, np):
     return img
 
 
-def build(out, glass=True, plain=False, draco=False):
+def build(out, glass=True, plain=False, draco=False, shape_keys=None):
+    """Builds the scene in Blender and exports it to OUT/round_trip.gltf; its path. With
+    `shape_keys` the white ball (`plain`) gets two shape keys, "squash" at 0.7 and "lift" at 0:
+    "targets" exports them as morph targets with their weights (the exporter's default), "baked"
+    exports Blender's own evaluation of the mix instead, a mesh without shape keys."""
     import bpy
     import numpy as np
 
@@ -190,7 +194,9 @@ def build(out, glass=True, plain=False, draco=False):
     bpy.ops.mesh.primitive_cube_add(size=1.0, location=(1.0, -0.8, 0.5), rotation=(0, 0, 0.4))
     add(bpy.context.object, material("red box", (0.6, 0.1, 0.08)))
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3, radius=0.6, location=(-0.9, 0.2, 0.6))
-    add(bpy.context.object, material("white ball", (0.8, 0.8, 0.8)) if plain else gold())
+    ball = add(bpy.context.object, material("white ball", (0.8, 0.8, 0.8)) if plain else gold())
+    if shape_keys:
+        add_shape_keys(bpy, ball, baked=shape_keys == "baked")
     if glass:
         bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=GLASS_RADIUS, location=GLASS_AT)
         add(bpy.context.object, glass_material())
@@ -219,12 +225,32 @@ def build(out, glass=True, plain=False, draco=False):
 
     path = os.path.join(out, "round_trip.gltf")
     bpy.ops.export_scene.gltf(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True, export_lights=True,
-                              export_draco_mesh_compression_enable=draco)
+                              export_draco_mesh_compression_enable=draco, export_morph=shape_keys == "targets")
     if glass:
         print(check_glass(path))
     if not plain:
         print(check_textured(path))
     return path
+
+
+def add_shape_keys(bpy, obj, baked):
+    """Two shape keys on `obj`: "squash" (z × 0.4, x × 1.5) at 0.7 and "lift" (y + 0.5) at 0.
+    `baked`: the object's mesh replaced by Blender's evaluation of the mix, without keys."""
+    obj.shape_key_add(name="Basis")
+    squash = obj.shape_key_add(name="squash")
+    for v in squash.data:
+        v.co.z *= 0.4
+        v.co.x *= 1.5
+    squash.value = 0.7
+    lift = obj.shape_key_add(name="lift")
+    for v in lift.data:
+        v.co.y += 0.5
+    lift.value = 0.0
+    if baked:
+        evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+        mesh = bpy.data.meshes.new_from_object(evaluated)
+        obj.shape_key_clear()
+        obj.data = mesh
 
 
 def check_textured(path):

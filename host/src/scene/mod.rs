@@ -40,6 +40,7 @@ mod environment;
 mod ktx2;
 mod lights;
 mod meshopt;
+mod morph;
 mod parse;
 mod read;
 mod tangents;

@@ -13,6 +13,7 @@ use shared::surface::{MaterialTextures, TriangleTexcoords};
 use shared::texture::TextureRef;
 
 use super::attributes;
+use super::morph;
 use super::parse::{parse, Parsed};
 use super::tangents;
 use super::textures::{Source, TextureStore};
@@ -696,6 +697,14 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                     None if positions_accessor.view().is_none() => vec![[0.0; 3]; positions_accessor.count()],
                     None => return Err(malformed(format!("{at}: its POSITION accessor cannot be read"))),
                 };
+                let weights = morph::weights(&node, &mesh);
+                let mut local = local;
+                morph::displace(get, &prim, gltf::Semantic::Positions, weights, &mut local, (&at, name))?;
+                if morph::moves_tangents(&prim, weights) {
+                    soup.warnings.push(format!(
+                        "{at}: its morph targets' TANGENT displacements are not applied (POSITION and NORMAL are)"
+                    ));
+                }
                 if let Some(i) = local.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
                     return Err(malformed(format!("{at}: POSITION {i} is not finite: {:?}", local[i])));
                 }
@@ -716,7 +725,7 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                 let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
                 let textures = soup.materials[material as usize].textures;
                 let texcoords = read_texcoords(get, &prim, &soup, material, &at, positions.len(), name)?;
-                let local_normals = read_normals(get, &prim, &at, positions.len(), name)?;
+                let local_normals = read_normals(get, &prim, weights, &at, positions.len(), name)?;
                 // Normals transform by the inverse transpose of the node's matrix; a matrix
                 // without an inverse leaves degenerate triangles, which are flat.
                 let to_world = glam::Mat3::from_mat4(world).inverse().transpose();
@@ -835,6 +844,7 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
 fn read_normals<'a, 's, F>(
     get: F,
     prim: &gltf::Primitive<'a>,
+    weights: &[f32],
     at: &str,
     vertices: usize,
     name: &str,
@@ -846,7 +856,7 @@ where
         return Ok(None);
     };
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}: {what}") };
-    let local: Vec<[f32; 3]> = match attributes::read(&accessor, get) {
+    let local: Vec<[f32; 3]> = match attributes::read(&accessor, get.clone()) {
         Some(n) => n,
         // No view and no sparse values: zeros, which no normal can be.
         None if accessor.view().is_none() => vec![[0.0; 3]; accessor.count()],
@@ -863,6 +873,17 @@ where
             return Err(malformed(format!("NORMAL {i} is not a unit vector: {n}")));
         }
         normals.push(n);
+    }
+    if weights.iter().any(|&w| w != 0.0) {
+        // Displaced by the morph targets, then normalised again (the spec's rule).
+        let mut displaced: Vec<[f32; 3]> = normals.iter().map(|n| n.to_array()).collect();
+        morph::displace(get, prim, gltf::Semantic::Normals, weights, &mut displaced, (at, name))?;
+        for (i, (n, d)) in normals.iter_mut().zip(&displaced).enumerate() {
+            *n = Vec3::from_array(*d).normalize_or_zero();
+            if *n == Vec3::ZERO {
+                return Err(malformed(format!("NORMAL {i}: its morph targets cancel it")));
+            }
+        }
     }
     Ok(Some(normals))
 }
