@@ -691,14 +691,13 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                     soup.warnings.push(format!("{at} has no POSITION: skipped, as the spec says"));
                     continue;
                 };
-                let local: Vec<[f32; 3]> = match attributes::read(&positions_accessor, get) {
+                let mut local: Vec<[f32; 3]> = match attributes::read(&positions_accessor, get) {
                     Some(p) => p,
                     // No view and no sparse values: zeros, as the spec says.
                     None if positions_accessor.view().is_none() => vec![[0.0; 3]; positions_accessor.count()],
                     None => return Err(malformed(format!("{at}: its POSITION accessor cannot be read"))),
                 };
                 let weights = morph::weights(&node, &mesh);
-                let mut local = local;
                 morph::displace(get, &prim, gltf::Semantic::Positions, weights, &mut local, (&at, name))?;
                 if morph::moves_tangents(&prim, weights) {
                     soup.warnings.push(format!(
