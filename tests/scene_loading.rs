@@ -193,6 +193,25 @@ fn blender_s_shape_keys_load_as_blender_evaluates_them() {
     println!("the displaced normals lie within {widest:.2}° of their faces");
 }
 
+/// A skinned mesh is drawn unposed (skins are not applied), and a warning says so once, naming
+/// the nodes.
+#[test]
+fn skinned_meshes_are_named_in_a_warning() {
+    let mut doc = one_light_doc();
+    let node = doc["nodes"].as_array().unwrap().iter().position(|n| n["mesh"] == json!(0)).unwrap();
+    doc["nodes"].as_array_mut().unwrap().push(json!({"name": "bone"}));
+    let bone = doc["nodes"].as_array().unwrap().len() - 1;
+    doc["scenes"][0]["nodes"].as_array_mut().unwrap().push(json!(bone));
+    doc["skins"] = json!([{"joints": [bone]}]);
+    doc["nodes"][node]["skin"] = json!(0);
+    let unposed = load(&doc).unwrap();
+    let said: Vec<_> = unposed.warnings.iter().filter(|w| w.contains("skin")).collect();
+    assert_eq!(said.len(), 1, "{:?}", unposed.warnings);
+    assert!(said[0].contains(&format!("1 skinned mesh node(s) (nodes[{node}])")), "{}", said[0]);
+    doc["nodes"][node].as_object_mut().unwrap().remove("skin");
+    assert_eq!(load(&doc).unwrap().triangles, unposed.triangles, "drawn where the node places it");
+}
+
 /// An orthographic camera (Blender's exporter writes every camera of the scene) does not refuse
 /// the file: it is named in a warning and refused as a view, the render without `--view` sees
 /// the first perspective camera, and a file whose cameras are all orthographic the default

@@ -587,6 +587,8 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
     // glTF's node hierarchy is a set of disjoint trees: a node reached twice has two parents or
     // is its own ancestor, and a walk through a cycle would never end.
     let mut reached = vec![false; doc.nodes().len()];
+    // Skinned mesh nodes, drawn unposed (skins are not applied), named once in a warning.
+    let mut skinned = Vec::new();
     let mut stack: Vec<(gltf::Node, Mat4, Option<usize>)> =
         scene.nodes().map(|n| (n, Mat4::IDENTITY, None)).collect();
     stack.reverse();
@@ -657,6 +659,9 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
             }
         }
         if let Some(mesh) = node.mesh() {
+            if node.skin().is_some() {
+                skinned.push(node.index());
+            }
             for prim in mesh.primitives() {
                 if prim.mode() != gltf::mesh::Mode::Triangles {
                     return Err(SceneError::Unsupported {
@@ -834,6 +839,15 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
         }
         let children: Vec<_> = node.children().map(|c| (c, world, Some(node.index()))).collect();
         stack.extend(children.into_iter().rev());
+    }
+    if !skinned.is_empty() {
+        let named: Vec<String> = skinned.iter().take(3).map(|n| format!("nodes[{n}]")).collect();
+        let more = if skinned.len() > 3 { ", …" } else { "" };
+        soup.warnings.push(format!(
+            "{} skinned mesh node(s) ({}{more}) drawn unposed where the node places them: skins are not applied",
+            skinned.len(),
+            named.join(", ")
+        ));
     }
     Ok(soup)
 }
