@@ -66,6 +66,7 @@ difference between them and smlt's `naive` is that light.
 import argparse
 import math
 import os
+import subprocess
 import sys
 
 
@@ -251,6 +252,15 @@ def add_shape_keys(bpy, obj, baked):
         mesh = bpy.data.meshes.new_from_object(evaluated)
         obj.shape_key_clear()
         obj.data = mesh
+
+
+def in_own_python(code):
+    """Runs `code` with this module imported as `blender_round_trip`, in a Python process of its
+    own (bpy's scene is the process's, so each build or render starts clean): its stdout."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    prelude = f"import sys; sys.path.insert(0, {here!r}); import blender_round_trip; "
+    return subprocess.run([sys.executable, "-c", prelude + code], capture_output=True, text=True,
+                          check=True).stdout
 
 
 def check_textured(path):

@@ -21,27 +21,19 @@ Printed: smlt on the Draco file against the decoded one (the same triangles in t
 any difference is the decoders'); smlt and Cycles each on the Draco file against the plain one
 (what the quantisation changes, as each renderer sees it); Cycles against smlt on each file.
 """
-import argparse
 import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import blender_round_trip  # noqa: E402
-from check_optimised import compare, node_modules, run, smlt_binary, smlt_reference  # noqa: E402
+from check_optimised import compare, node_modules, peer_check_args, printed_reference, run, smlt_binary  # noqa: E402
 from cycles_peer import read_exr  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("out")
-    ap.add_argument("--spp", type=int, default=4096)
-    ap.add_argument("--cycles-samples", type=int, default=1024)
-    ap.add_argument("--width", type=int, default=160)
-    ap.add_argument("--height", type=int, default=120)
-    a = ap.parse_args()
+    a, size = peer_check_args(4096, 160, 120)
     smlt = smlt_binary()
-    size = ["--width", str(a.width), "--height", str(a.height), "--max-depth", "10"]
     files = {}
     for key in ("plain", "draco"):
         folder = os.path.join(a.out, key)
@@ -54,10 +46,7 @@ def main():
 
     def reference(key, seed=1):
         exr = os.path.join(a.out, f"smlt_{key}_{seed}.exr")
-        image, warnings = smlt_reference(smlt, files[key], exr, a.spp, seed, size)
-        for line in warnings:
-            print(f"  smlt warned on {key}: {line}")
-        return image
+        return printed_reference(smlt, files[key], exr, a.spp, seed, size, key)
 
     import bpy
 

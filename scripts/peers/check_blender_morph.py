@@ -18,41 +18,26 @@ Cycles through Blender's importer, which makes the targets shape keys again at t
 Printed: smlt on the morph-target file against the baked one (the same geometry: any difference
 is the two evaluations' rounding), the ball's extent as smlt reads it, and Cycles against smlt.
 """
-import argparse
 import os
-import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from check_optimised import compare, smlt_binary, smlt_reference  # noqa: E402
+from check_optimised import compare, peer_check_args, printed_reference, smlt_binary  # noqa: E402
+from blender_round_trip import in_own_python  # noqa: E402
 from cycles_peer import read_exr  # noqa: E402
 
 
-def in_blender(code):
-    """Runs `code` with blender_round_trip imported, in a Python of its own (bpy's state)."""
-    prelude = f"import sys; sys.path.insert(0, {HERE!r}); import blender_round_trip; "
-    return subprocess.run([sys.executable, "-c", prelude + code], capture_output=True, text=True,
-                          check=True).stdout
-
-
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("out")
-    ap.add_argument("--spp", type=int, default=4096)
-    ap.add_argument("--cycles-samples", type=int, default=1024)
-    ap.add_argument("--width", type=int, default=160)
-    ap.add_argument("--height", type=int, default=120)
-    a = ap.parse_args()
+    a, size = peer_check_args(4096, 160, 120)
     smlt = smlt_binary()
-    size = ["--width", str(a.width), "--height", str(a.height), "--max-depth", "10"]
     files = {}
     for key in ("targets", "baked"):
         folder = os.path.join(a.out, key)
         os.makedirs(folder, exist_ok=True)
         files[key] = os.path.join(folder, "round_trip.gltf")
-        in_blender(f"blender_round_trip.build({folder!r}, glass=False, plain=True, shape_keys={key!r})")
-        in_blender(f"blender_round_trip.cycles({folder!r}, {files[key]!r}, {a.cycles_samples}, {a.width}, {a.height})")
+        in_own_python(f"blender_round_trip.build({folder!r}, glass=False, plain=True, shape_keys={key!r})")
+        in_own_python(f"blender_round_trip.cycles({folder!r}, {files[key]!r}, {a.cycles_samples}, {a.width}, {a.height})")
     import json
 
     with open(files["targets"]) as f:
@@ -63,10 +48,7 @@ def main():
 
     def reference(key, seed=1):
         exr = os.path.join(a.out, f"smlt_{key}_{seed}.exr")
-        image, warnings = smlt_reference(smlt, files[key], exr, a.spp, seed, size)
-        for line in warnings:
-            print(f"  smlt warned on {key}: {line}")
-        return image
+        return printed_reference(smlt, files[key], exr, a.spp, seed, size, key)
 
     images = {key: reference(key) for key in files}
     noise = compare(reference("baked", 2), images["baked"])[1]

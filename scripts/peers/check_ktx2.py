@@ -23,15 +23,14 @@ Printed a scene: smlt on each KTX2 file against its decoded twin (the same texel
 is the transcoders'); each variant against the float file, as smlt and as Cycles see it (what the
 compression changes); Cycles on each twin against smlt on the KTX2 file.
 """
-import argparse
 import os
 import shutil
-import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from check_optimised import compare, node_modules, run, smlt_binary, smlt_reference  # noqa: E402
+from check_optimised import compare, node_modules, peer_check_args, printed_reference, run, smlt_binary  # noqa: E402
+from blender_round_trip import in_own_python  # noqa: E402
 from cycles_peer import read_exr  # noqa: E402
 
 VARIANTS = {"etc1s": ["--mipmaps"], "uastc_zstd": ["--uastc", "--zstd"]}
@@ -48,22 +47,12 @@ def source(name, folder, smlt):
         run([sys.executable, os.path.join(HERE, "normal_map_scene.py"), folder])
         return os.path.join(folder, "normal_map.gltf")
     # Blender's export, as check_blender_draco.py makes it (in a process of its own: bpy).
-    code = (f"import sys; sys.path.insert(0, {HERE!r}); import blender_round_trip; "
-            f"print(blender_round_trip.build({folder!r}))")
-    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          check=True).stdout.strip().splitlines()[-1]
+    return in_own_python(f"print(blender_round_trip.build({folder!r}))").strip().splitlines()[-1]
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("out")
-    ap.add_argument("--spp", type=int, default=1024)
-    ap.add_argument("--cycles-samples", type=int, default=1024)
-    ap.add_argument("--width", type=int, default=128)
-    ap.add_argument("--height", type=int, default=96)
-    a = ap.parse_args()
+    a, size = peer_check_args(1024, 128, 96)
     smlt = smlt_binary()
-    size = ["--width", str(a.width), "--height", str(a.height), "--max-depth", "10"]
     env = {**os.environ, "NODE_PATH": node_modules()}
     import bpy
 
@@ -81,10 +70,7 @@ def main():
 
         def reference(key, seed=1):
             exr = os.path.join(folder, f"smlt_{key}_{seed}.exr")
-            image, warnings = smlt_reference(smlt, files[key], exr, a.spp, seed, size)
-            for line in warnings:
-                print(f"  smlt warned on {key}: {line}")
-            return image
+            return printed_reference(smlt, files[key], exr, a.spp, seed, size, key)
 
         images = {key: reference(key) for key in files}
         noise = compare(reference("float", 2), images["float"])[1]
@@ -92,9 +78,8 @@ def main():
         for key in ("float", *(f"{v}-decoded" for v in VARIANTS)):
             out = os.path.join(folder, f"cycles_{key}")
             os.makedirs(out, exist_ok=True)
-            code = (f"import sys; sys.path.insert(0, {HERE!r}); import blender_round_trip; "
-                    f"blender_round_trip.cycles({out!r}, {files[key]!r}, {a.cycles_samples}, {a.width}, {a.height})")
-            subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+            in_own_python(f"blender_round_trip.cycles({out!r}, {files[key]!r}, {a.cycles_samples}, {a.width}, "
+                          f"{a.height})")
             cycles[key] = read_exr(os.path.join(out, "cycles.exr"))
         print(f"\n{name}: smlt on the float file mean {images['float'].mean():.5f}, noise RMSE (seeds 1, 2) {noise:.2e}")
         for variant in VARIANTS:

@@ -109,6 +109,27 @@ def smlt_reference(smlt, path, exr, spp, seed, size):
     return read_exr(exr), [line.strip() for line in log.splitlines() if "warning" in line.lower()]
 
 
+def peer_check_args(spp, width, height):
+    """The command line of a check beside Cycles (OUT, --spp, --cycles-samples, --width,
+    --height, with these defaults): the parsed arguments, and smlt's size flags (max depth 10)."""
+    ap = argparse.ArgumentParser()
+    ap.add_argument("out")
+    ap.add_argument("--spp", type=int, default=spp)
+    ap.add_argument("--cycles-samples", type=int, default=1024)
+    ap.add_argument("--width", type=int, default=width)
+    ap.add_argument("--height", type=int, default=height)
+    a = ap.parse_args()
+    return a, ["--width", str(a.width), "--height", str(a.height), "--max-depth", "10"]
+
+
+def printed_reference(smlt, path, exr, spp, seed, size, key):
+    """`smlt_reference`, its warnings printed as the `key` file's: the image."""
+    image, warnings = smlt_reference(smlt, path, exr, spp, seed, size)
+    for line in warnings:
+        print(f"  smlt warned on {key}: {line}")
+    return image
+
+
 def compare(image, against):
     """Mean difference (per cent of `against`'s mean) and RMSE."""
     rmse = float(np.sqrt(((image - against) ** 2).mean()))
