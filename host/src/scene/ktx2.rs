@@ -1,18 +1,18 @@
 //! `KHR_texture_basisu`'s images: KTX2 files holding Basis Universal data (ETC1S with BasisLZ,
 //! or UASTC, raw or Zstandard-supercompressed), transcoded to RGBA8 by the `basisu` crate (a
-//! port of Binomial's reference transcoder, which claims its output byte for byte; the checks
-//! in `scripts/peers/check_ktx2.py` compare it with Binomial's own, three.js's build of it).
+//! port of Binomial's reference transcoder; `scripts/peers/check_ktx2.py` compares it with
+//! Binomial's own, three.js's build of it).
 //!
 //! The base level is read: smlt keeps no mip-maps (see `shared::texture`). The container rules
 //! the extension sets that change what the texels mean are checked, each refused in one line:
 //! a 2D image (no depth, array layers or cube faces), `KTXorientation` `rd` or absent (rows top
-//! first, as glTF's uv reads them), `KTXswizzle` `rgba` or absent, ETC1S or UASTC (LDR) data. An
-//! image larger than the `image` crate lets a PNG be (512 MiB of RGBA8), or a Zstandard level
-//! whose inflated size is not its blocks', is refused before it is transcoded; the caller runs
-//! [`decode`] guarded (`super::read::guarded`), so that a panic in the young transcoder is a
-//! refusal in one line too. Its DFD's transfer function
-//! is not read: as for a PNG, the material slot that samples a texture says whether its values
-//! are sRGB-encoded (the spec asks the two to agree).
+//! first, as glTF's uv reads them), `KTXswizzle` `rgba` or absent, ETC1S or UASTC (LDR) data.
+//! An image larger than the `image` crate lets a PNG be (512 MiB of RGBA8), or a Zstandard
+//! level whose inflated size is not its blocks', is refused before it is transcoded; the caller
+//! runs [`decode`] guarded (`super::read::guarded`), so that a panic in the young transcoder is
+//! a refusal in one line too. The DFD's transfer function is not read: as for a PNG, the
+//! material slot that samples a texture says whether its values are sRGB-encoded (the spec asks
+//! the two to agree).
 
 /// The extension whose texture source is a KTX2 image.
 pub const EXTENSION: &str = "KHR_texture_basisu";
