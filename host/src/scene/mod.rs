@@ -15,9 +15,9 @@
 //!   `KHR_materials_emissive_strength` → emission (one-sided, along the triangle's
 //!   counter-clockwise normal); the Phong exponent from the material's extras, key
 //!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness,
-//!   emissive and normal textures (`textures`; PNG, JPEG, WebP with `EXT_texture_webp`, KTX2 with
-//!   `KHR_texture_basisu`), a
-//!   normal texture in the mesh's `TANGENT`s or MikkTSpace's (`tangents`). Other material
+//!   emissive and normal textures (`textures`; PNG, JPEG, WebP with `EXT_texture_webp`, KTX2
+//!   with `KHR_texture_basisu`), a normal texture in the mesh's `TANGENT`s or MikkTSpace's
+//!   (`tangents`); morph targets at their weights (`morph`). Other material
 //!   extensions and textures change the image but are not modelled: each is named in a printed
 //!   warning;
 //! - punctual lights (`KHR_lights_punctual`: point, spot, directional) on their nodes, in
@@ -204,7 +204,7 @@ pub struct SceneData {
     pub tangents: Vec<TriangleTangents>,
     /// The camera of the selected view.
     pub camera: CameraSpec,
-    /// Every perspective camera of the file, in scene order (views 1, 2, …).
+    /// Every camera of the file, in scene order (views 1, 2, …).
     pub views: Vec<View>,
     /// Bounding box of all triangles.
     pub bounds: (Vec3, Vec3),
