@@ -212,6 +212,89 @@ fn skinned_meshes_are_named_in_a_warning() {
     assert_eq!(load(&doc).unwrap().triangles, unposed.triangles, "drawn where the node places it");
 }
 
+/// `EXT_mesh_gpu_instancing` (glTF-Transform's `instance`, run by its `optimize` by default,
+/// which does not mark it required): a node's mesh is drawn once an instance, at the node's
+/// matrix times the instance's TRS — the triangles of the same mesh on one plain node per
+/// instance, the rotation read from normalised shorts. Counts that differ and an accessor that
+/// does not exist are refused by path.
+#[test]
+fn instanced_meshes_load_as_copies_at_their_instances() {
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let instances: [([f32; 3], [f32; 4], [f32; 3]); 3] = [
+        ([1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0], [1.0, 1.0, 1.0]),
+        ([0.0, 2.0, 0.0], [0.0, s, 0.0, s], [2.0, 2.0, 2.0]),
+        ([0.0, 0.0, -3.0], [s, 0.0, 0.0, s], [1.0, 0.5, 1.0]),
+    ];
+    let base = one_light_doc();
+    let node = base["nodes"].as_array().unwrap().iter().position(|n| n["mesh"] == json!(0)).unwrap();
+    // The copies: one plain node an instance, each a child of the mesh node's place.
+    let mut copies = base.clone();
+    copies["nodes"][node]["translation"] = json!([0.0, 0.0, 1.0]);
+    let mesh = copies["nodes"][node].as_object_mut().unwrap().remove("mesh").unwrap();
+    let children: Vec<usize> = (0..3).map(|k| copies["nodes"].as_array().unwrap().len() + k).collect();
+    for (t, r, sc) in instances {
+        copies["nodes"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({"mesh": mesh, "translation": t, "rotation": r, "scale": sc}));
+    }
+    copies["nodes"][node]["children"] = json!(children);
+    // The instanced node: translations and scales as floats, rotations as normalised shorts.
+    let mut doc = base.clone();
+    doc["nodes"][node]["translation"] = json!([0.0, 0.0, 1.0]);
+    let mut data: Vec<u8> = instances.iter().flat_map(|i| i.0).flat_map(f32::to_le_bytes).collect();
+    data.extend(
+        instances.iter().flat_map(|i| i.1).flat_map(|q| ((q * 32767.0).round() as i16).to_le_bytes()),
+    );
+    data.extend(instances.iter().flat_map(|i| i.2).flat_map(f32::to_le_bytes));
+    let buffer = doc["buffers"].as_array().unwrap().len();
+    doc["buffers"].as_array_mut().unwrap().push(json!({
+        "byteLength": data.len(),
+        "uri": format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&data))
+    }));
+    let (views, accessors) =
+        (doc["bufferViews"].as_array().unwrap().len(), doc["accessors"].as_array().unwrap().len());
+    for (k, (offset, length, component, kind, normalized)) in
+        [(0, 36, 5126, "VEC3", false), (36, 24, 5122, "VEC4", true), (60, 36, 5126, "VEC3", false)]
+            .into_iter()
+            .enumerate()
+    {
+        doc["bufferViews"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({"buffer": buffer, "byteOffset": offset, "byteLength": length}));
+        doc["accessors"].as_array_mut().unwrap().push(json!({
+            "bufferView": views + k, "componentType": component, "count": 3, "type": kind, "normalized": normalized
+        }));
+    }
+    let attributes = json!({"TRANSLATION": accessors, "ROTATION": accessors + 1, "SCALE": accessors + 2});
+    doc["nodes"][node]["extensions"] = json!({"EXT_mesh_gpu_instancing": {"attributes": attributes}});
+    doc["extensionsUsed"] = json!(["EXT_mesh_gpu_instancing"]);
+    let (instanced, copied) = (load(&doc).unwrap(), load(&copies).unwrap());
+    assert!(instanced.warnings.is_empty(), "{:?}", instanced.warnings);
+    assert_eq!(instanced.triangles.len(), copied.triangles.len());
+    assert_eq!(instanced.triangles.len(), load(&base).unwrap().triangles.len() + 2 * 2, "three lamp quads");
+    for (a, b) in instanced.triangles.iter().zip(&copied.triangles) {
+        for (p, q) in [(a.v0, b.v0), (a.v1, b.v1), (a.v2, b.v2)] {
+            assert!((Vec3::from_array(p) - Vec3::from_array(q)).length() < 1e-4, "{p:?} against {q:?}");
+        }
+    }
+    let mut broken = doc.clone();
+    broken["nodes"][node]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"] = json!(99);
+    let err = load(&broken).unwrap_err().to_string();
+    assert!(
+        err.contains(&format!(
+            "nodes[{node}].extensions.EXT_mesh_gpu_instancing.attributes.TRANSLATION: 99 names no accessor"
+        )),
+        "{err}"
+    );
+    let mut broken = doc.clone();
+    broken["accessors"][accessors + 2]["count"] = json!(2);
+    broken["bufferViews"][views + 2]["byteLength"] = json!(24);
+    let err = load(&broken).unwrap_err().to_string();
+    assert!(err.contains("hold [3, 3, 2] instances"), "{err}");
+}
+
 /// An orthographic camera (Blender's exporter writes every camera of the scene) does not refuse
 /// the file: it is named in a warning and refused as a view, the render without `--view` sees
 /// the first perspective camera, and a file whose cameras are all orthographic the default

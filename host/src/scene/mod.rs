@@ -37,6 +37,7 @@
 mod attributes;
 mod draco;
 mod environment;
+mod instancing;
 mod ktx2;
 mod lights;
 mod meshopt;

@@ -75,14 +75,15 @@ pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, Sc
 /// Extensions that smlt reads itself, which the gltf crate does not know: the clear coat from
 /// the document's JSON, quantised attributes through `super::attributes`, WebP images in
 /// `super::textures`, compressed views in `super::meshopt`, compressed primitives in
-/// `super::draco`, KTX2 images in `super::ktx2`.
-pub const READ_BY_SMLT: [&str; 6] = [
+/// `super::draco`, KTX2 images in `super::ktx2`, a node's instances in `super::instancing`.
+pub const READ_BY_SMLT: [&str; 7] = [
     "KHR_materials_clearcoat",
     super::validate::MESH_QUANTIZATION,
     super::textures::WEBP,
     super::meshopt::EXTENSION,
     super::draco::EXTENSION,
     super::ktx2::EXTENSION,
+    super::instancing::EXTENSION,
 ];
 
 /// Appends `bytes` to the document as a buffer of its own (decoded data: no URI), in `root` and
@@ -165,10 +166,17 @@ fn light_types(value: &mut Value) -> Result<(), String> {
     Ok(())
 }
 
-/// The accessors a mesh primitive reads, from the JSON (attributes, morph targets, indices).
+/// The accessors a mesh primitive reads, from the JSON (attributes, morph targets, indices), and
+/// those of a node's instances (`super::instancing`).
 fn used_accessor_indices(value: &Value) -> Vec<usize> {
     let mut used = Vec::new();
     let index = |v: &Value| v.as_u64().map(|i| i as usize);
+    for node in value.get("nodes").and_then(Value::as_array).into_iter().flatten() {
+        let instancing = node.get("extensions").and_then(|e| e.get(super::instancing::EXTENSION));
+        if let Some(map) = instancing.and_then(|i| i.get("attributes")).and_then(Value::as_object) {
+            used.extend(map.values().filter_map(index));
+        }
+    }
     for mesh in value.get("meshes").and_then(Value::as_array).into_iter().flatten() {
         for prim in mesh.get("primitives").and_then(Value::as_array).into_iter().flatten() {
             let maps = prim

@@ -13,6 +13,7 @@ use shared::surface::{MaterialTextures, TriangleTexcoords};
 use shared::texture::TextureRef;
 
 use super::attributes;
+use super::instancing;
 use super::morph;
 use super::parse::{parse, Parsed};
 use super::tangents;
@@ -662,177 +663,193 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
             if node.skin().is_some() {
                 skinned.push(node.index());
             }
-            for prim in mesh.primitives() {
-                if prim.mode() != gltf::mesh::Mode::Triangles {
-                    return Err(SceneError::Unsupported {
-                        path: name.into(),
-                        what: format!(
-                            "primitive mode {:?} in mesh {} (only TRIANGLES)",
-                            prim.mode(),
-                            mesh.index()
-                        ),
-                    });
-                }
-                // The indices through the gltf crate's reader, vertex attributes through
-                // `attributes`, which reads every type the spec allows them.
-                let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d.0[..]);
-                let reader = prim.reader(get);
-                let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
-                let malformed = |what: String| SceneError::Malformed { path: name.into(), what };
-                for accessor in prim.attributes().map(|(_, a)| a).chain(prim.indices()) {
-                    let views = accessor.view().into_iter().chain(
-                        accessor.sparse().into_iter().flat_map(|s| [s.indices().view(), s.values().view()]),
-                    );
-                    if let Some(b) = views.map(|v| v.buffer().index()).find(|b| placeholders.contains(b)) {
+            // Drawn once for each instance (`instancing`), at the node's world matrix times
+            // the instance's; a node without instances has one, the identity.
+            let node_world = world;
+            let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d.0[..]);
+            for instance in instancing::transforms(&node, doc, get, name)? {
+                let world = node_world * instance;
+                for prim in mesh.primitives() {
+                    if prim.mode() != gltf::mesh::Mode::Triangles {
                         return Err(SceneError::Unsupported {
+                            path: name.into(),
+                            what: format!(
+                                "primitive mode {:?} in mesh {} (only TRIANGLES)",
+                                prim.mode(),
+                                mesh.index()
+                            ),
+                        });
+                    }
+                    // The indices through the gltf crate's reader, vertex attributes through
+                    // `attributes`, which reads every type the spec allows them.
+                    let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d.0[..]);
+                    let reader = prim.reader(get);
+                    let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
+                    let malformed = |what: String| SceneError::Malformed { path: name.into(), what };
+                    for accessor in prim.attributes().map(|(_, a)| a).chain(prim.indices()) {
+                        let views = accessor.view().into_iter().chain(
+                            accessor
+                                .sparse()
+                                .into_iter()
+                                .flat_map(|s| [s.indices().view(), s.values().view()]),
+                        );
+                        if let Some(b) = views.map(|v| v.buffer().index()).find(|b| placeholders.contains(b))
+                        {
+                            return Err(SceneError::Unsupported {
                             path: name.into(),
                             what: format!(
                                 "{at} reads buffers[{b}], whose data is not in the file (no uri, no BIN chunk)"
                             ),
                         });
+                        }
                     }
-                }
-                let Some(positions_accessor) = prim.get(&gltf::Semantic::Positions) else {
-                    soup.warnings.push(format!("{at} has no POSITION: skipped, as the spec says"));
-                    continue;
-                };
-                let mut local: Vec<[f32; 3]> = match attributes::read(&positions_accessor, get) {
-                    Some(p) => p,
-                    // No view and no sparse values: zeros, as the spec says.
-                    None if positions_accessor.view().is_none() => vec![[0.0; 3]; positions_accessor.count()],
-                    None => return Err(malformed(format!("{at}: its POSITION accessor cannot be read"))),
-                };
-                let weights = morph::weights(&node, &mesh);
-                morph::displace(get, &prim, gltf::Semantic::Positions, weights, &mut local, (&at, name))?;
-                if morph::moves_tangents(&prim, weights) {
-                    soup.warnings.push(format!(
+                    let Some(positions_accessor) = prim.get(&gltf::Semantic::Positions) else {
+                        soup.warnings.push(format!("{at} has no POSITION: skipped, as the spec says"));
+                        continue;
+                    };
+                    let mut local: Vec<[f32; 3]> = match attributes::read(&positions_accessor, get) {
+                        Some(p) => p,
+                        // No view and no sparse values: zeros, as the spec says.
+                        None if positions_accessor.view().is_none() => {
+                            vec![[0.0; 3]; positions_accessor.count()]
+                        }
+                        None => return Err(malformed(format!("{at}: its POSITION accessor cannot be read"))),
+                    };
+                    let weights = morph::weights(&node, &mesh);
+                    morph::displace(get, &prim, gltf::Semantic::Positions, weights, &mut local, (&at, name))?;
+                    if morph::moves_tangents(&prim, weights) {
+                        soup.warnings.push(format!(
                         "{at}: its morph targets' TANGENT displacements are not applied (POSITION and NORMAL are)"
                     ));
-                }
-                if let Some(i) = local.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
-                    return Err(malformed(format!("{at}: POSITION {i} is not finite: {:?}", local[i])));
-                }
-                let positions: Vec<Vec3> =
-                    local.iter().map(|p| world.transform_point3(Vec3::from_array(*p))).collect();
-                if let Some(i) = positions.iter().position(|p| !(p.abs().max_element() <= MAX_COORDINATE)) {
-                    return Err(malformed(format!(
+                    }
+                    if let Some(i) = local.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+                        return Err(malformed(format!("{at}: POSITION {i} is not finite: {:?}", local[i])));
+                    }
+                    let positions: Vec<Vec3> =
+                        local.iter().map(|p| world.transform_point3(Vec3::from_array(*p))).collect();
+                    if let Some(i) = positions.iter().position(|p| !(p.abs().max_element() <= MAX_COORDINATE))
+                    {
+                        return Err(malformed(format!(
                         "{at}: POSITION {i} lies at {} after the node transforms, beyond ±{MAX_COORDINATE:e}",
                         positions[i]
                     )));
-                }
-                let indices: Vec<u32> = match (reader.read_indices(), prim.indices()) {
-                    (Some(i), _) => i.into_u32().collect(),
-                    // An index accessor without a view or sparse values: zeros, as the spec says.
-                    (None, Some(a)) => vec![0; a.count()],
-                    (None, None) => (0..positions.len() as u32).collect(),
-                };
-                let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
-                let textures = soup.materials[material as usize].textures;
-                let texcoords = read_texcoords(get, &prim, &soup, material, &at, positions.len(), name)?;
-                let local_normals = read_normals(get, &prim, weights, &at, positions.len(), name)?;
-                // Normals transform by the inverse transpose of the node's matrix; a matrix
-                // without an inverse leaves degenerate triangles, which are flat.
-                let to_world = glam::Mat3::from_mat4(world).inverse().transpose();
-                let normals: Option<Vec<Vec3>> = local_normals
-                    .as_ref()
-                    .filter(|_| to_world.is_finite())
-                    .map(|n| n.iter().map(|n| (to_world * *n).normalize_or_zero()).collect());
-                let (triples, rest) = indices.as_chunks::<3>();
-                // Every corner a vertex, before anything reads the corners.
-                if let Some(&i) = triples.as_flattened().iter().find(|&&i| i as usize >= positions.len()) {
-                    return Err(malformed(format!(
-                        "{at}.indices: index {i} is not below the {} vertices",
-                        positions.len()
-                    )));
-                }
-                // A normal texture's vertex tangents, each triangle's corners in the mesh's space:
-                // in the coordinates of the normal texture, else of the coat's (as
-                // `shared::surface::normals_at` takes them).
-                let normal_texture = (textures != 0)
-                    .then(|| {
-                        let t = &soup.material_textures[textures as usize];
-                        if t.normal.is_some() {
-                            t.normal
-                        } else {
-                            t.clearcoat_normal
-                        }
-                    })
-                    .filter(TextureRef::is_some);
-                let tangents = match (normal_texture, &local_normals, &texcoords) {
-                    (Some(r), Some(normals), Some(sets)) => {
-                        let mesh =
-                            tangents::MeshData { positions: &local, normals, sets, triangles: triples };
-                        Some(tangents::corner_tangents(
-                            get,
-                            &prim,
-                            r,
-                            &mesh,
-                            (&at, name),
-                            &mut soup.warnings,
-                        )?)
                     }
-                    // A mesh without normals is flat: the spec says to ignore its TANGENT, and
-                    // each triangle keeps its own frame.
-                    _ => None,
-                };
-                if !rest.is_empty() {
-                    soup.warnings.push(format!(
+                    let indices: Vec<u32> = match (reader.read_indices(), prim.indices()) {
+                        (Some(i), _) => i.into_u32().collect(),
+                        // An index accessor without a view or sparse values: zeros, as the spec says.
+                        (None, Some(a)) => vec![0; a.count()],
+                        (None, None) => (0..positions.len() as u32).collect(),
+                    };
+                    let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
+                    let textures = soup.materials[material as usize].textures;
+                    let texcoords = read_texcoords(get, &prim, &soup, material, &at, positions.len(), name)?;
+                    let local_normals = read_normals(get, &prim, weights, &at, positions.len(), name)?;
+                    // Normals transform by the inverse transpose of the node's matrix; a matrix
+                    // without an inverse leaves degenerate triangles, which are flat.
+                    let to_world = glam::Mat3::from_mat4(world).inverse().transpose();
+                    let normals: Option<Vec<Vec3>> = local_normals
+                        .as_ref()
+                        .filter(|_| to_world.is_finite())
+                        .map(|n| n.iter().map(|n| (to_world * *n).normalize_or_zero()).collect());
+                    let (triples, rest) = indices.as_chunks::<3>();
+                    // Every corner a vertex, before anything reads the corners.
+                    if let Some(&i) = triples.as_flattened().iter().find(|&&i| i as usize >= positions.len())
+                    {
+                        return Err(malformed(format!(
+                            "{at}.indices: index {i} is not below the {} vertices",
+                            positions.len()
+                        )));
+                    }
+                    // A normal texture's vertex tangents, each triangle's corners in the mesh's space:
+                    // in the coordinates of the normal texture, else of the coat's (as
+                    // `shared::surface::normals_at` takes them).
+                    let normal_texture = (textures != 0)
+                        .then(|| {
+                            let t = &soup.material_textures[textures as usize];
+                            if t.normal.is_some() {
+                                t.normal
+                            } else {
+                                t.clearcoat_normal
+                            }
+                        })
+                        .filter(TextureRef::is_some);
+                    let tangents = match (normal_texture, &local_normals, &texcoords) {
+                        (Some(r), Some(normals), Some(sets)) => {
+                            let mesh =
+                                tangents::MeshData { positions: &local, normals, sets, triangles: triples };
+                            Some(tangents::corner_tangents(
+                                get,
+                                &prim,
+                                r,
+                                &mesh,
+                                (&at, name),
+                                &mut soup.warnings,
+                            )?)
+                        }
+                        // A mesh without normals is flat: the spec says to ignore its TANGENT, and
+                        // each triangle keeps its own frame.
+                        _ => None,
+                    };
+                    if !rest.is_empty() {
+                        soup.warnings.push(format!(
                         "{at}: {} indices (or vertices) are no multiple of 3: the last {} form no triangle",
                         indices.len(),
                         rest.len()
                     ));
-                }
-                for (j, tri) in triples.iter().enumerate() {
-                    let mut v = [Vec3::ZERO; 3];
-                    for (k, &i) in tri.iter().enumerate() {
-                        v[k] = *positions.get(i as usize).ok_or_else(|| {
-                            malformed(format!(
-                                "{at}.indices: index {i} is not below the {} vertices",
-                                positions.len()
-                            ))
-                        })?;
                     }
-                    let mut corners = [tri[0], tri[1], tri[2]];
-                    let mut order = [0, 1, 2];
-                    // A mirroring transform flips the winding; keep the normal's sense.
-                    if world.determinant() < 0.0 {
-                        v.swap(1, 2);
-                        corners.swap(1, 2);
-                        order.swap(1, 2);
-                    }
-                    soup.triangles.push(v);
-                    soup.material_of.push(material);
-                    if let Some(normals) = &normals {
-                        // Only a triangle whose normals bend is stored (the rest are flat).
-                        let ng = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero();
-                        let ns = corners.map(|i| normals[i as usize]);
-                        if ns.iter().any(|n| !(n.dot(ng) > 1.0 - 1e-6)) {
-                            soup.normals.resize(soup.triangles.len() - 1, TriangleNormals::default());
-                            let n = [ns[0].to_array(), ns[1].to_array(), ns[2].to_array()];
-                            soup.normals
-                                .push(TriangleNormals { n: *n.as_flattened().as_array().expect("nine") });
+                    for (j, tri) in triples.iter().enumerate() {
+                        let mut v = [Vec3::ZERO; 3];
+                        for (k, &i) in tri.iter().enumerate() {
+                            v[k] = *positions.get(i as usize).ok_or_else(|| {
+                                malformed(format!(
+                                    "{at}.indices: index {i} is not below the {} vertices",
+                                    positions.len()
+                                ))
+                            })?;
                         }
-                    }
-                    if let Some(tangents) = &tangents {
-                        let t = order.map(|k| tangents::to_world(world, tangents[j][k]));
-                        if t.iter().any(|t| *t != Vec4::ZERO) {
-                            soup.tangents.resize(soup.triangles.len() - 1, TriangleTangents::default());
-                            let t = [t[0].to_array(), t[1].to_array(), t[2].to_array()];
-                            soup.tangents
-                                .push(TriangleTangents { t: *t.as_flattened().as_array().expect("twelve") });
+                        let mut corners = [tri[0], tri[1], tri[2]];
+                        let mut order = [0, 1, 2];
+                        // A mirroring transform flips the winding; keep the normal's sense.
+                        if world.determinant() < 0.0 {
+                            v.swap(1, 2);
+                            corners.swap(1, 2);
+                            order.swap(1, 2);
                         }
-                    }
-                    if let Some(sets) = &texcoords {
-                        let mut uv = [0.0f32; 12];
-                        for (set, coords) in sets.iter().enumerate() {
-                            for (k, &i) in corners.iter().enumerate() {
-                                let c = coords.get(i as usize).copied().unwrap_or_default();
-                                uv[6 * set + 2 * k..6 * set + 2 * k + 2].copy_from_slice(&c);
+                        soup.triangles.push(v);
+                        soup.material_of.push(material);
+                        if let Some(normals) = &normals {
+                            // Only a triangle whose normals bend is stored (the rest are flat).
+                            let ng = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero();
+                            let ns = corners.map(|i| normals[i as usize]);
+                            if ns.iter().any(|n| !(n.dot(ng) > 1.0 - 1e-6)) {
+                                soup.normals.resize(soup.triangles.len() - 1, TriangleNormals::default());
+                                let n = [ns[0].to_array(), ns[1].to_array(), ns[2].to_array()];
+                                soup.normals
+                                    .push(TriangleNormals { n: *n.as_flattened().as_array().expect("nine") });
                             }
                         }
-                        soup.texcoords.push(TriangleTexcoords { uv });
-                    } else if any_textures {
-                        soup.texcoords.push(TriangleTexcoords::default());
+                        if let Some(tangents) = &tangents {
+                            let t = order.map(|k| tangents::to_world(world, tangents[j][k]));
+                            if t.iter().any(|t| *t != Vec4::ZERO) {
+                                soup.tangents.resize(soup.triangles.len() - 1, TriangleTangents::default());
+                                let t = [t[0].to_array(), t[1].to_array(), t[2].to_array()];
+                                soup.tangents.push(TriangleTangents {
+                                    t: *t.as_flattened().as_array().expect("twelve"),
+                                });
+                            }
+                        }
+                        if let Some(sets) = &texcoords {
+                            let mut uv = [0.0f32; 12];
+                            for (set, coords) in sets.iter().enumerate() {
+                                for (k, &i) in corners.iter().enumerate() {
+                                    let c = coords.get(i as usize).copied().unwrap_or_default();
+                                    uv[6 * set + 2 * k..6 * set + 2 * k + 2].copy_from_slice(&c);
+                                }
+                            }
+                            soup.texcoords.push(TriangleTexcoords { uv });
+                        } else if any_textures {
+                            soup.texcoords.push(TriangleTexcoords::default());
+                        }
                     }
                 }
             }
