@@ -68,8 +68,9 @@ impl Base {
 
 /// The committed default scene (non-indexed), Blender's Draco export of the round-trip scene
 /// (`tests/draco`: every primitive a Draco stream, its image inlined), the `textured` scene with
-/// KTX2 textures (`tests/ktx2`: ETC1S with BasisLZ, one UASTC with Zstandard, in the buffer) and
-/// the measured Cornell box (indexed, from `../shared/scenes`, which CI has).
+/// KTX2 textures (`tests/ktx2`: ETC1S with BasisLZ, one UASTC with Zstandard, in the buffer),
+/// Blender's posed armature (`tests/skin/posed`: a skin's joints, weights and inverse bind
+/// matrices) and the measured Cornell box (indexed, from `../shared/scenes`, which CI has).
 fn bases() -> Vec<Base> {
     let mut out = Vec::new();
     let json: Value = serde_json::from_str(include_str!("../scenes/cornell.gltf")).unwrap();
@@ -102,6 +103,11 @@ fn bases() -> Vec<Base> {
         bin.extend(bytes);
     }
     json["buffers"][0]["byteLength"] = serde_json::json!(bin.len());
+    out.push(Base { json, bin });
+    let skin = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/skin/posed");
+    let json: Value =
+        serde_json::from_str(&std::fs::read_to_string(skin.join("round_trip.gltf")).unwrap()).unwrap();
+    let bin = std::fs::read(skin.join("round_trip.bin")).unwrap();
     out.push(Base { json, bin });
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/cornell_box");
     match (std::fs::read_to_string(dir.join("cornell_box.gltf")), std::fs::read(dir.join("cornell_box.bin")))

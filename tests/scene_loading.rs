@@ -93,22 +93,11 @@ fn morph_targets_move_the_mesh_by_their_weights() {
         .flat_map(|d| d.map(f32::to_le_bytes))
         .flatten()
         .collect();
-    let buffer = doc["buffers"].as_array().unwrap().len();
-    doc["buffers"].as_array_mut().unwrap().push(json!({
-        "byteLength": data.len(),
-        "uri": format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&data))
-    }));
-    let views = doc["bufferViews"].as_array().unwrap().len();
-    let accessors = doc["accessors"].as_array().unwrap().len();
-    for k in 0..3 {
-        doc["bufferViews"]
-            .as_array_mut()
-            .unwrap()
-            .push(json!({"buffer": buffer, "byteOffset": 12 * n * k, "byteLength": 12 * n}));
-        let (min, max) = [([0, 0, 1], [0, 0, 1]), ([1, 0, 0], [1, 0, 0]), ([0, 0, 1], [0, 0, 1])][k];
-        doc["accessors"].as_array_mut().unwrap().push(json!({
-            "bufferView": views + k, "componentType": 5126, "count": n, "type": "VEC3", "min": min, "max": max
-        }));
+    let layout: Vec<_> = (0..3).map(|k| (12 * n * k, 12 * n, 5126, "VEC3", false, n)).collect();
+    let accessors = push_accessors(&mut doc, &data, &layout);
+    for (k, bound) in [[0, 0, 1], [1, 0, 0], [0, 0, 1]].into_iter().enumerate() {
+        doc["accessors"][accessors + k]["min"] = json!(bound);
+        doc["accessors"][accessors + k]["max"] = json!(bound);
     }
     doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = json!(accessors + 2);
     let base = load(&doc).unwrap();
@@ -193,23 +182,161 @@ fn blender_s_shape_keys_load_as_blender_evaluates_them() {
     println!("the displaced normals lie within {widest:.2}° of their faces");
 }
 
-/// A skinned mesh is drawn unposed (skins are not applied), and a warning says so once, naming
-/// the nodes.
+/// Appends `data` to `doc` as a buffer (a data URI) with one view and one accessor for each
+/// `(byte offset, byte length, componentType, type, normalized, count)` of `layout`: the first
+/// accessor's index.
+fn push_accessors(doc: &mut Value, data: &[u8], layout: &[(usize, usize, u32, &str, bool, usize)]) -> usize {
+    let buffer = doc["buffers"].as_array().unwrap().len();
+    doc["buffers"].as_array_mut().unwrap().push(json!({
+        "byteLength": data.len(),
+        "uri": format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(data))
+    }));
+    let (views, accessors) =
+        (doc["bufferViews"].as_array().unwrap().len(), doc["accessors"].as_array().unwrap().len());
+    for (k, &(offset, length, component, kind, normalized, count)) in layout.iter().enumerate() {
+        doc["bufferViews"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({"buffer": buffer, "byteOffset": offset, "byteLength": length}));
+        doc["accessors"].as_array_mut().unwrap().push(json!({
+            "bufferView": views + k, "componentType": component, "count": count, "type": kind, "normalized": normalized
+        }));
+    }
+    accessors
+}
+
+/// A skinned mesh is drawn where its joints put it (glTF 2.0, "Skins"): each vertex by its
+/// joints' world matrices times their inverse bind matrices, blended by its weights (here
+/// normalised bytes, 64/255 and 191/255), the skinned node's own transform not applied. A joint
+/// outside the scene, a vertex without weight, a weighted joint the skin lacks, a primitive
+/// without joints, and a skin on an instanced node are refused by path.
 #[test]
-fn skinned_meshes_are_named_in_a_warning() {
-    let mut doc = one_light_doc();
-    let node = doc["nodes"].as_array().unwrap().iter().position(|n| n["mesh"] == json!(0)).unwrap();
-    doc["nodes"].as_array_mut().unwrap().push(json!({"name": "bone"}));
-    let bone = doc["nodes"].as_array().unwrap().len() - 1;
-    doc["scenes"][0]["nodes"].as_array_mut().unwrap().push(json!(bone));
-    doc["skins"] = json!([{"joints": [bone]}]);
+fn skinned_meshes_take_their_joints_pose() {
+    let base = one_light_doc();
+    let node = base["nodes"].as_array().unwrap().iter().position(|n| n["mesh"] == json!(0)).unwrap();
+    let position = base["meshes"][0]["primitives"][0]["attributes"]["POSITION"].as_u64().unwrap() as usize;
+    let n = base["accessors"][position]["count"].as_u64().unwrap() as usize;
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    // Joint "a" at (0, 0, 2); joint "b", its child, turned 90° about z, bound at (1, 0, 0)
+    // (its inverse bind matrix moves by −x).
+    let mut doc = base.clone();
+    let (a, b) = (doc["nodes"].as_array().unwrap().len(), doc["nodes"].as_array().unwrap().len() + 1);
+    doc["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"name": "a", "translation": [0, 0, 2], "children": [b]}));
+    doc["nodes"].as_array_mut().unwrap().push(json!({"name": "b", "rotation": [0, 0, s, s]}));
+    doc["scenes"][0]["nodes"].as_array_mut().unwrap().push(json!(a));
+    let mut data: Vec<u8> = std::iter::repeat_n([0u8, 1, 0, 0], n).flatten().collect();
+    data.extend(std::iter::repeat_n([64u8, 191, 0, 0], n).flatten());
+    let binds = [glam::Mat4::IDENTITY, glam::Mat4::from_translation(-Vec3::X)];
+    data.extend(binds.iter().flat_map(|m| m.to_cols_array()).flat_map(f32::to_le_bytes));
+    let layout = [
+        (0, 4 * n, 5121, "VEC4", false, n),
+        (4 * n, 4 * n, 5121, "VEC4", true, n),
+        (8 * n, 128, 5126, "MAT4", false, 2),
+    ];
+    let first = push_accessors(&mut doc, &data, &layout);
+    doc["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = json!(first);
+    doc["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = json!(first + 1);
+    doc["skins"] = json!([{"joints": [a, b], "inverseBindMatrices": first + 2}]);
     doc["nodes"][node]["skin"] = json!(0);
-    let unposed = load(&doc).unwrap();
-    let said: Vec<_> = unposed.warnings.iter().filter(|w| w.contains("skin")).collect();
-    assert_eq!(said.len(), 1, "{:?}", unposed.warnings);
-    assert!(said[0].contains(&format!("1 skinned mesh node(s) (nodes[{node}])")), "{}", said[0]);
-    doc["nodes"][node].as_object_mut().unwrap().remove("skin");
-    assert_eq!(load(&doc).unwrap().triangles, unposed.triangles, "drawn where the node places it");
+    doc["nodes"][node]["translation"] = json!([5, 5, 5]); // not applied to a skinned mesh
+    let skinned = load(&doc).unwrap();
+    assert!(skinned.warnings.is_empty(), "{:?}", skinned.warnings);
+    let unskinned = load(&base).unwrap();
+    let joint_a = glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 2.0));
+    let joint_b = joint_a * glam::Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2) * binds[1];
+    let blend = joint_a * (64.0 / 255.0) + joint_b * (191.0 / 255.0);
+    assert_eq!(skinned.triangles.len(), unskinned.triangles.len());
+    for (t, u) in skinned.triangles.iter().zip(&unskinned.triangles) {
+        for (p, q) in [(t.v0, u.v0), (t.v1, u.v1), (t.v2, u.v2)] {
+            let expected = blend.transform_point3(Vec3::from_array(q));
+            assert!((Vec3::from_array(p) - expected).length() < 1e-5, "{p:?} against {expected}");
+        }
+    }
+    let refused = |doc: &Value| load(doc).unwrap_err().to_string();
+    let mut broken = doc.clone();
+    broken["scenes"][0]["nodes"].as_array_mut().unwrap().pop();
+    let err = refused(&broken);
+    assert!(err.contains(&format!("skins[0].joints[0]: nodes[{a}] is not in the scene rendered")), "{err}");
+    let mut broken = doc.clone();
+    // Weights without a view or sparse values: zeros, as the spec says.
+    broken["accessors"][first + 1].as_object_mut().unwrap().remove("bufferView");
+    let err = refused(&broken);
+    assert!(err.contains("meshes[0].primitives[0]: vertex 0: no joint weighs on it"), "{err}");
+    let mut broken = doc.clone();
+    broken["skins"][0]["joints"] = json!([a]);
+    broken["accessors"][first + 2]["count"] = json!(1);
+    let err = refused(&broken);
+    assert!(err.contains("vertex 0: joint 1 is weighted, and its skin has 1 joints"), "{err}");
+    let mut broken = doc.clone();
+    broken["meshes"][0]["primitives"][0]["attributes"].as_object_mut().unwrap().remove("JOINTS_0");
+    broken["meshes"][0]["primitives"][0]["attributes"].as_object_mut().unwrap().remove("WEIGHTS_0");
+    let err = refused(&broken);
+    assert!(err.contains("its node has a skin, but it has no JOINTS_0 and WEIGHTS_0"), "{err}");
+    let mut broken = doc.clone();
+    broken["nodes"][node]["extensions"] =
+        json!({"EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": first + 2}}});
+    let err = refused(&broken);
+    assert!(err.contains(&format!("nodes[{node}]: a skinned mesh with EXT_mesh_gpu_instancing")), "{err}");
+}
+
+/// Blender's armature as its exporter writes it with the pose (`tests/skin/posed`: the
+/// round-trip scene's white ball bent by two bones, "upper" turned 35°, "lower" moved; a skin of
+/// two joints) loads to the geometry of Blender's own evaluation of the pose (`tests/skin/baked`:
+/// the ball's mesh made from the posed armature, no skin; `tests/skin/PROVENANCE.md`).
+#[test]
+fn blender_s_posed_armature_loads_as_blender_poses_it() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/skin");
+    let posed = SceneData::load(&root.join("posed/round_trip.gltf")).unwrap();
+    let baked = SceneData::load(&root.join("baked/round_trip.gltf")).unwrap();
+    assert!(posed.warnings.is_empty(), "{:?}", posed.warnings);
+    assert_eq!(posed.triangles.len(), baked.triangles.len());
+    let mut largest = 0f32;
+    for (t, b) in posed.triangles.iter().zip(&baked.triangles) {
+        for (p, q) in [(t.v0, b.v0), (t.v1, b.v1), (t.v2, b.v2)] {
+            largest = largest.max((Vec3::from_array(p) - Vec3::from_array(q)).abs().max_element());
+        }
+    }
+    println!("the posed ball's vertices lie within {largest:e} m of Blender's");
+    assert!(largest < 1e-5, "vertices {largest} m apart");
+    // And not the bind pose: the file's joints without their pose move the ball back.
+    let mut doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("posed/round_trip.gltf")).unwrap()).unwrap();
+    for joint in ["upper", "lower"] {
+        let node =
+            doc["nodes"].as_array_mut().unwrap().iter_mut().find(|n| n["name"] == json!(joint)).unwrap();
+        node.as_object_mut().unwrap().remove("rotation");
+    }
+    let dir = std::env::temp_dir().join(format!("smlt-skin-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(root.join("posed/round_trip.bin"), dir.join("round_trip.bin")).unwrap();
+    std::fs::write(dir.join("unposed.gltf"), doc.to_string()).unwrap();
+    let unposed = SceneData::load(&dir.join("unposed.gltf")).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let moved = posed
+        .triangles
+        .iter()
+        .zip(&unposed.triangles)
+        .map(|(t, u)| (Vec3::from_array(t.v0) - Vec3::from_array(u.v0)).length())
+        .fold(0f32, f32::max);
+    assert!(moved > 0.2, "the pose moves the ball's top by {moved} m");
+    // The skinned normals (the flat faces' normals by each vertex's blended matrix, as the spec
+    // says) lean off the bent faces where the blend shears them (measured 10.4°).
+    let mut widest = 0f32;
+    for (t, n) in posed.triangles.iter().zip(&posed.normals) {
+        if n.n == [0.0; 9] {
+            continue;
+        }
+        let [a, b, c] = [t.v0, t.v1, t.v2].map(Vec3::from_array);
+        let face = (b - a).cross(c - a).normalize();
+        for k in 0..3 {
+            widest = widest.max(Vec3::from_slice(&n.n[3 * k..3 * k + 3]).angle_between(face).to_degrees());
+        }
+    }
+    println!("the skinned normals lie within {widest:.2}° of their faces");
+    assert!(widest < 12.0, "normals {widest}° off their faces");
 }
 
 /// `EXT_mesh_gpu_instancing` (glTF-Transform's `instance`, run by its `optimize` by default,
@@ -247,26 +374,9 @@ fn instanced_meshes_load_as_copies_at_their_instances() {
         instances.iter().flat_map(|i| i.1).flat_map(|q| ((q * 32767.0).round() as i16).to_le_bytes()),
     );
     data.extend(instances.iter().flat_map(|i| i.2).flat_map(f32::to_le_bytes));
-    let buffer = doc["buffers"].as_array().unwrap().len();
-    doc["buffers"].as_array_mut().unwrap().push(json!({
-        "byteLength": data.len(),
-        "uri": format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&data))
-    }));
-    let (views, accessors) =
-        (doc["bufferViews"].as_array().unwrap().len(), doc["accessors"].as_array().unwrap().len());
-    for (k, (offset, length, component, kind, normalized)) in
-        [(0, 36, 5126, "VEC3", false), (36, 24, 5122, "VEC4", true), (60, 36, 5126, "VEC3", false)]
-            .into_iter()
-            .enumerate()
-    {
-        doc["bufferViews"]
-            .as_array_mut()
-            .unwrap()
-            .push(json!({"buffer": buffer, "byteOffset": offset, "byteLength": length}));
-        doc["accessors"].as_array_mut().unwrap().push(json!({
-            "bufferView": views + k, "componentType": component, "count": 3, "type": kind, "normalized": normalized
-        }));
-    }
+    let layout =
+        [(0, 36, 5126, "VEC3", false, 3), (36, 24, 5122, "VEC4", true, 3), (60, 36, 5126, "VEC3", false, 3)];
+    let accessors = push_accessors(&mut doc, &data, &layout);
     let attributes = json!({"TRANSLATION": accessors, "ROTATION": accessors + 1, "SCALE": accessors + 2});
     doc["nodes"][node]["extensions"] = json!({"EXT_mesh_gpu_instancing": {"attributes": attributes}});
     doc["extensionsUsed"] = json!(["EXT_mesh_gpu_instancing"]);
@@ -290,7 +400,8 @@ fn instanced_meshes_load_as_copies_at_their_instances() {
     );
     let mut broken = doc.clone();
     broken["accessors"][accessors + 2]["count"] = json!(2);
-    broken["bufferViews"][views + 2]["byteLength"] = json!(24);
+    let view = doc["accessors"][accessors + 2]["bufferView"].as_u64().unwrap() as usize;
+    broken["bufferViews"][view]["byteLength"] = json!(24);
     let err = load(&broken).unwrap_err().to_string();
     assert!(err.contains("hold [3, 3, 2] instances"), "{err}");
 }
@@ -1041,19 +1152,7 @@ fn with_tangents(mut doc: Value, tangent: [f32; 4]) -> Value {
         .as_u64()
         .unwrap() as usize;
     let bytes: Vec<u8> = (0..vertices).flat_map(|_| tangent).flat_map(f32::to_le_bytes).collect();
-    let uri = format!(
-        "data:application/octet-stream;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(&bytes)
-    );
-    let buffers = doc["buffers"].as_array().unwrap().len();
-    doc["buffers"].as_array_mut().unwrap().push(json!({"byteLength": bytes.len(), "uri": uri}));
-    let views = doc["bufferViews"].as_array().unwrap().len();
-    doc["bufferViews"].as_array_mut().unwrap().push(json!({"buffer": buffers, "byteLength": bytes.len()}));
-    let accessors = doc["accessors"].as_array().unwrap().len();
-    doc["accessors"]
-        .as_array_mut()
-        .unwrap()
-        .push(json!({"bufferView": views, "componentType": 5126, "count": vertices, "type": "VEC4"}));
+    let accessors = push_accessors(&mut doc, &bytes, &[(0, bytes.len(), 5126, "VEC4", false, vertices)]);
     doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = json!(accessors);
     doc
 }

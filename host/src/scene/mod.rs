@@ -17,7 +17,9 @@
 //!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness,
 //!   emissive and normal textures (`textures`; PNG, JPEG, WebP with `EXT_texture_webp`, KTX2
 //!   with `KHR_texture_basisu`), a normal texture in the mesh's `TANGENT`s or MikkTSpace's
-//!   (`tangents`); morph targets at their weights (`morph`). Other material
+//!   (`tangents`); morph targets at their weights (`morph`); skinned meshes in the pose their
+//!   joints hold (`skin`); each primitive read once and placed as often as its node draws it
+//!   (`primitive`: instances of `EXT_mesh_gpu_instancing` in `instancing`). Other material
 //!   extensions and textures change the image but are not modelled: each is named in a printed
 //!   warning;
 //! - punctual lights (`KHR_lights_punctual`: point, spot, directional) on their nodes, in
@@ -43,7 +45,9 @@ mod lights;
 mod meshopt;
 mod morph;
 mod parse;
+mod primitive;
 mod read;
+mod skin;
 mod tangents;
 mod textures;
 mod validate;

@@ -167,7 +167,8 @@ fn light_types(value: &mut Value) -> Result<(), String> {
 }
 
 /// The accessors a mesh primitive reads, from the JSON (attributes, morph targets, indices), and
-/// those of a node's instances (`super::instancing`).
+/// those of a node's instances (`super::instancing`) and of a skin's inverse bind matrices
+/// (`super::skin`).
 fn used_accessor_indices(value: &Value) -> Vec<usize> {
     let mut used = Vec::new();
     let index = |v: &Value| v.as_u64().map(|i| i as usize);
@@ -176,6 +177,9 @@ fn used_accessor_indices(value: &Value) -> Vec<usize> {
         if let Some(map) = instancing.and_then(|i| i.get("attributes")).and_then(Value::as_object) {
             used.extend(map.values().filter_map(index));
         }
+    }
+    for skin in value.get("skins").and_then(Value::as_array).into_iter().flatten() {
+        used.extend(skin.get("inverseBindMatrices").and_then(index));
     }
     for mesh in value.get("meshes").and_then(Value::as_array).into_iter().flatten() {
         for prim in mesh.get("primitives").and_then(Value::as_array).into_iter().flatten() {

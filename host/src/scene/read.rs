@@ -3,20 +3,18 @@
 
 use std::path::Path;
 
-use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
+use glam::{Mat4, Vec4Swizzles};
 use shared::bsdf::Material;
 use shared::cutout::{ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE};
 use shared::environment::EnvironmentMap;
-use shared::normal_map::TriangleTangents;
-use shared::normals::TriangleNormals;
-use shared::surface::{MaterialTextures, TriangleTexcoords};
+use shared::surface::MaterialTextures;
 use shared::texture::TextureRef;
 
-use super::attributes;
 use super::instancing;
 use super::morph;
 use super::parse::{parse, Parsed};
-use super::tangents;
+use super::primitive::{self, Placement};
+use super::skin;
 use super::textures::{Source, TextureStore};
 use super::{CameraSpec, SceneData, SceneError, TriangleSoup, View};
 
@@ -585,26 +583,13 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
     let any_textures = soup.material_textures.len() > 1;
     let scene =
         doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| SceneError::Empty(name.into()))?;
-    // glTF's node hierarchy is a set of disjoint trees: a node reached twice has two parents or
-    // is its own ancestor, and a walk through a cycle would never end.
-    let mut reached = vec![false; doc.nodes().len()];
-    // Skinned mesh nodes, drawn unposed (skins are not applied), named once in a warning.
-    let mut skinned = Vec::new();
-    let mut stack: Vec<(gltf::Node, Mat4, Option<usize>)> =
-        scene.nodes().map(|n| (n, Mat4::IDENTITY, None)).collect();
-    stack.reverse();
-    while let Some((node, parent, parent_index)) = stack.pop() {
-        if std::mem::replace(&mut reached[node.index()], true) {
-            let via = parent_index.map(|p| format!(" (again as a child of node {p})")).unwrap_or_default();
-            return Err(SceneError::Unsupported {
-                path: name.into(),
-                what: format!(
-                    "the node graph is not a tree: node {} is reached twice{via}; a cycle or a shared node",
-                    node.index()
-                ),
-            });
-        }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+    let placed = walk(&scene, doc.nodes().len(), name)?;
+    // Every node's world matrix, for the joints of skins.
+    let mut worlds = vec![None; doc.nodes().len()];
+    for (node, world) in &placed {
+        worlds[node.index()] = Some(*world);
+    }
+    for (node, world) in placed {
         if let Some(light) = node.light() {
             let light = super::lights::read_light(&light, node.index(), world, name, &mut soup.warnings)?;
             soup.punctual.push(light);
@@ -660,317 +645,80 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
             }
         }
         if let Some(mesh) = node.mesh() {
-            if node.skin().is_some() {
-                skinned.push(node.index());
-            }
-            // Drawn once for each instance (`instancing`), at the node's world matrix times
-            // the instance's; a node without instances has one, the identity.
-            let node_world = world;
             let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d.0[..]);
-            for instance in instancing::transforms(&node, doc, get, name)? {
-                let world = node_world * instance;
-                for prim in mesh.primitives() {
-                    if prim.mode() != gltf::mesh::Mode::Triangles {
+            // A skinned mesh is placed by its joints; any other at the node's world matrix
+            // times each instance's (`instancing`; a node without instances has one, the
+            // identity).
+            let joints = match node.skin() {
+                Some(skin) => {
+                    if node.extension_value(instancing::EXTENSION).is_some() {
                         return Err(SceneError::Unsupported {
                             path: name.into(),
                             what: format!(
-                                "primitive mode {:?} in mesh {} (only TRIANGLES)",
-                                prim.mode(),
-                                mesh.index()
+                                "nodes[{}]: a skinned mesh with {}: smlt draws one or the other",
+                                node.index(),
+                                instancing::EXTENSION
                             ),
                         });
                     }
-                    // The indices through the gltf crate's reader, vertex attributes through
-                    // `attributes`, which reads every type the spec allows them.
-                    let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d.0[..]);
-                    let reader = prim.reader(get);
-                    let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
-                    let malformed = |what: String| SceneError::Malformed { path: name.into(), what };
-                    for accessor in prim.attributes().map(|(_, a)| a).chain(prim.indices()) {
-                        let views = accessor.view().into_iter().chain(
-                            accessor
-                                .sparse()
-                                .into_iter()
-                                .flat_map(|s| [s.indices().view(), s.values().view()]),
-                        );
-                        if let Some(b) = views.map(|v| v.buffer().index()).find(|b| placeholders.contains(b))
-                        {
-                            return Err(SceneError::Unsupported {
-                            path: name.into(),
-                            what: format!(
-                                "{at} reads buffers[{b}], whose data is not in the file (no uri, no BIN chunk)"
-                            ),
-                        });
-                        }
-                    }
-                    let Some(positions_accessor) = prim.get(&gltf::Semantic::Positions) else {
-                        soup.warnings.push(format!("{at} has no POSITION: skipped, as the spec says"));
-                        continue;
-                    };
-                    let mut local: Vec<[f32; 3]> = match attributes::read(&positions_accessor, get) {
-                        Some(p) => p,
-                        // No view and no sparse values: zeros, as the spec says.
-                        None if positions_accessor.view().is_none() => {
-                            vec![[0.0; 3]; positions_accessor.count()]
-                        }
-                        None => return Err(malformed(format!("{at}: its POSITION accessor cannot be read"))),
-                    };
-                    let weights = morph::weights(&node, &mesh);
-                    morph::displace(get, &prim, gltf::Semantic::Positions, weights, &mut local, (&at, name))?;
-                    if morph::moves_tangents(&prim, weights) {
-                        soup.warnings.push(format!(
-                        "{at}: its morph targets' TANGENT displacements are not applied (POSITION and NORMAL are)"
-                    ));
-                    }
-                    if let Some(i) = local.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
-                        return Err(malformed(format!("{at}: POSITION {i} is not finite: {:?}", local[i])));
-                    }
-                    let positions: Vec<Vec3> =
-                        local.iter().map(|p| world.transform_point3(Vec3::from_array(*p))).collect();
-                    if let Some(i) = positions.iter().position(|p| !(p.abs().max_element() <= MAX_COORDINATE))
-                    {
-                        return Err(malformed(format!(
-                        "{at}: POSITION {i} lies at {} after the node transforms, beyond ±{MAX_COORDINATE:e}",
-                        positions[i]
-                    )));
-                    }
-                    let indices: Vec<u32> = match (reader.read_indices(), prim.indices()) {
-                        (Some(i), _) => i.into_u32().collect(),
-                        // An index accessor without a view or sparse values: zeros, as the spec says.
-                        (None, Some(a)) => vec![0; a.count()],
-                        (None, None) => (0..positions.len() as u32).collect(),
-                    };
-                    let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
-                    let textures = soup.materials[material as usize].textures;
-                    let texcoords = read_texcoords(get, &prim, &soup, material, &at, positions.len(), name)?;
-                    let local_normals = read_normals(get, &prim, weights, &at, positions.len(), name)?;
-                    // Normals transform by the inverse transpose of the node's matrix; a matrix
-                    // without an inverse leaves degenerate triangles, which are flat.
-                    let to_world = glam::Mat3::from_mat4(world).inverse().transpose();
-                    let normals: Option<Vec<Vec3>> = local_normals
-                        .as_ref()
-                        .filter(|_| to_world.is_finite())
-                        .map(|n| n.iter().map(|n| (to_world * *n).normalize_or_zero()).collect());
-                    let (triples, rest) = indices.as_chunks::<3>();
-                    // Every corner a vertex, before anything reads the corners.
-                    if let Some(&i) = triples.as_flattened().iter().find(|&&i| i as usize >= positions.len())
-                    {
-                        return Err(malformed(format!(
-                            "{at}.indices: index {i} is not below the {} vertices",
-                            positions.len()
-                        )));
-                    }
-                    // A normal texture's vertex tangents, each triangle's corners in the mesh's space:
-                    // in the coordinates of the normal texture, else of the coat's (as
-                    // `shared::surface::normals_at` takes them).
-                    let normal_texture = (textures != 0)
-                        .then(|| {
-                            let t = &soup.material_textures[textures as usize];
-                            if t.normal.is_some() {
-                                t.normal
-                            } else {
-                                t.clearcoat_normal
-                            }
-                        })
-                        .filter(TextureRef::is_some);
-                    let tangents = match (normal_texture, &local_normals, &texcoords) {
-                        (Some(r), Some(normals), Some(sets)) => {
-                            let mesh =
-                                tangents::MeshData { positions: &local, normals, sets, triangles: triples };
-                            Some(tangents::corner_tangents(
-                                get,
-                                &prim,
-                                r,
-                                &mesh,
-                                (&at, name),
-                                &mut soup.warnings,
-                            )?)
-                        }
-                        // A mesh without normals is flat: the spec says to ignore its TANGENT, and
-                        // each triangle keeps its own frame.
-                        _ => None,
-                    };
-                    if !rest.is_empty() {
-                        soup.warnings.push(format!(
-                        "{at}: {} indices (or vertices) are no multiple of 3: the last {} form no triangle",
-                        indices.len(),
-                        rest.len()
-                    ));
-                    }
-                    for (j, tri) in triples.iter().enumerate() {
-                        let mut v = [Vec3::ZERO; 3];
-                        for (k, &i) in tri.iter().enumerate() {
-                            v[k] = *positions.get(i as usize).ok_or_else(|| {
-                                malformed(format!(
-                                    "{at}.indices: index {i} is not below the {} vertices",
-                                    positions.len()
-                                ))
-                            })?;
-                        }
-                        let mut corners = [tri[0], tri[1], tri[2]];
-                        let mut order = [0, 1, 2];
-                        // A mirroring transform flips the winding; keep the normal's sense.
-                        if world.determinant() < 0.0 {
-                            v.swap(1, 2);
-                            corners.swap(1, 2);
-                            order.swap(1, 2);
-                        }
-                        soup.triangles.push(v);
-                        soup.material_of.push(material);
-                        if let Some(normals) = &normals {
-                            // Only a triangle whose normals bend is stored (the rest are flat).
-                            let ng = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero();
-                            let ns = corners.map(|i| normals[i as usize]);
-                            if ns.iter().any(|n| !(n.dot(ng) > 1.0 - 1e-6)) {
-                                soup.normals.resize(soup.triangles.len() - 1, TriangleNormals::default());
-                                let n = [ns[0].to_array(), ns[1].to_array(), ns[2].to_array()];
-                                soup.normals
-                                    .push(TriangleNormals { n: *n.as_flattened().as_array().expect("nine") });
-                            }
-                        }
-                        if let Some(tangents) = &tangents {
-                            let t = order.map(|k| tangents::to_world(world, tangents[j][k]));
-                            if t.iter().any(|t| *t != Vec4::ZERO) {
-                                soup.tangents.resize(soup.triangles.len() - 1, TriangleTangents::default());
-                                let t = [t[0].to_array(), t[1].to_array(), t[2].to_array()];
-                                soup.tangents.push(TriangleTangents {
-                                    t: *t.as_flattened().as_array().expect("twelve"),
-                                });
-                            }
-                        }
-                        if let Some(sets) = &texcoords {
-                            let mut uv = [0.0f32; 12];
-                            for (set, coords) in sets.iter().enumerate() {
-                                for (k, &i) in corners.iter().enumerate() {
-                                    let c = coords.get(i as usize).copied().unwrap_or_default();
-                                    uv[6 * set + 2 * k..6 * set + 2 * k + 2].copy_from_slice(&c);
-                                }
-                            }
-                            soup.texcoords.push(TriangleTexcoords { uv });
-                        } else if any_textures {
-                            soup.texcoords.push(TriangleTexcoords::default());
-                        }
-                    }
+                    Some(skin::joint_matrices(&skin, &worlds, get, name)?)
+                }
+                None => None,
+            };
+            let instances = match joints {
+                Some(_) => Vec::new(),
+                None => instancing::transforms(&node, doc, get, name)?,
+            };
+            let weights = morph::weights(&node, &mesh);
+            for prim in mesh.primitives() {
+                let Some(local) =
+                    primitive::read(get, (&mesh, &prim), weights, placeholders, &mut soup, name)?
+                else {
+                    continue;
+                };
+                if let Some(joints) = &joints {
+                    let vertices = local.positions.len();
+                    let matrices = skin::vertex_matrices(get, &prim, joints, vertices, (&local.at, name))?;
+                    local.place(&Placement::PerVertex(matrices), &mut soup, any_textures, name)?;
+                }
+                for instance in &instances {
+                    local.place(&Placement::Rigid(world * *instance), &mut soup, any_textures, name)?;
                 }
             }
         }
-        let children: Vec<_> = node.children().map(|c| (c, world, Some(node.index()))).collect();
-        stack.extend(children.into_iter().rev());
-    }
-    if !skinned.is_empty() {
-        let named: Vec<String> = skinned.iter().take(3).map(|n| format!("nodes[{n}]")).collect();
-        let more = if skinned.len() > 3 { ", …" } else { "" };
-        soup.warnings.push(format!(
-            "{} skinned mesh node(s) ({}{more}) drawn unposed where the node places them: skins are not applied",
-            skinned.len(),
-            named.join(", ")
-        ));
     }
     Ok(soup)
 }
 
-/// A primitive's vertex normals in the mesh's space (of length near 1, as read), or None where
-/// it has none (the mesh is flat, as the spec says).
-fn read_normals<'a, 's, F>(
-    get: F,
-    prim: &gltf::Primitive<'a>,
-    weights: &[f32],
-    at: &str,
-    vertices: usize,
+/// The nodes of `scene` with their world matrices, parents before children (the order in which
+/// cameras and lights are numbered). glTF's node hierarchy is a set of disjoint trees: a node
+/// reached twice has two parents or is its own ancestor, and is refused (a walk through a cycle
+/// would never end).
+fn walk<'a>(
+    scene: &gltf::Scene<'a>,
+    nodes: usize,
     name: &str,
-) -> Result<Option<Vec<Vec3>>, SceneError>
-where
-    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
-{
-    let Some(accessor) = prim.get(&gltf::Semantic::Normals) else {
-        return Ok(None);
-    };
-    let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}: {what}") };
-    let local: Vec<[f32; 3]> = match attributes::read(&accessor, get.clone()) {
-        Some(n) => n,
-        // No view and no sparse values: zeros, which no normal can be.
-        None if accessor.view().is_none() => vec![[0.0; 3]; accessor.count()],
-        None => return Err(malformed("its NORMAL accessor cannot be read".into())),
-    };
-    if local.len() < vertices {
-        return Err(malformed(format!("NORMAL has {} values for {vertices} vertices", local.len())));
-    }
-    let mut normals = Vec::with_capacity(local.len());
-    for (i, n) in local.iter().enumerate() {
-        let n = Vec3::from_array(*n);
-        // The spec asks for unit normals; a slightly longer or shorter one is normalised.
-        if !(n.is_finite() && n.length() > 0.5) {
-            return Err(malformed(format!("NORMAL {i} is not a unit vector: {n}")));
-        }
-        normals.push(n);
-    }
-    if weights.iter().any(|&w| w != 0.0) {
-        // Displaced by the morph targets, then normalised again (the spec's rule).
-        let mut displaced: Vec<[f32; 3]> = normals.iter().map(|n| n.to_array()).collect();
-        morph::displace(get, prim, gltf::Semantic::Normals, weights, &mut displaced, (at, name))?;
-        for (i, (n, d)) in normals.iter_mut().zip(&displaced).enumerate() {
-            *n = Vec3::from_array(*d).normalize_or_zero();
-            if *n == Vec3::ZERO {
-                return Err(malformed(format!("NORMAL {i}: its morph targets cancel it")));
-            }
-        }
-    }
-    Ok(Some(normals))
-}
-
-/// The texture coordinates a primitive's textured material reads (`TEXCOORD_0` and, where a
-/// texture of the material uses it, `TEXCOORD_1`; a set it does not use is zeros), or None for
-/// a material without textures. A set the material uses and the primitive lacks is refused, as
-/// the Khronos validator does.
-fn read_texcoords<'a, 's, F>(
-    get: F,
-    prim: &gltf::Primitive<'a>,
-    soup: &TriangleSoup,
-    material: u32,
-    at: &str,
-    vertices: usize,
-    name: &str,
-) -> Result<Option<[Vec<[f32; 2]>; 2]>, SceneError>
-where
-    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
-{
-    let textures = soup.materials[material as usize].textures;
-    if textures == 0 {
-        return Ok(None);
-    }
-    let t = &soup.material_textures[textures as usize];
-    let mut sets = [Vec::new(), Vec::new()];
-    for (set, coords) in sets.iter_mut().enumerate() {
-        let uses = t.slots().iter().any(|r| r.is_some() && r.tex_coord == set as u32);
-        if !uses {
-            continue;
-        }
-        let Some(accessor) = prim.get(&gltf::Semantic::TexCoords(set as u32)) else {
-            return Err(SceneError::Malformed {
+) -> Result<Vec<(gltf::Node<'a>, Mat4)>, SceneError> {
+    let mut reached = vec![false; nodes];
+    let mut placed = Vec::new();
+    let mut stack: Vec<(gltf::Node, Mat4, Option<usize>)> =
+        scene.nodes().map(|n| (n, Mat4::IDENTITY, None)).collect();
+    stack.reverse();
+    while let Some((node, parent, parent_index)) = stack.pop() {
+        if std::mem::replace(&mut reached[node.index()], true) {
+            let via = parent_index.map(|p| format!(" (again as a child of node {p})")).unwrap_or_default();
+            return Err(SceneError::Unsupported {
                 path: name.into(),
                 what: format!(
-                    "{at}: its material (materials[{}]) reads TEXCOORD_{set}, which the primitive does not have",
-                    material - 1
+                    "the node graph is not a tree: node {} is reached twice{via}; a cycle or a shared node",
+                    node.index()
                 ),
             });
-        };
-        *coords = match attributes::read(&accessor, get.clone()) {
-            Some(c) => c,
-            // No view and no sparse values: zeros, as the spec says.
-            None if accessor.view().is_none() => vec![[0.0; 2]; accessor.count()],
-            None => {
-                return Err(SceneError::Malformed {
-                    path: name.into(),
-                    what: format!("{at}: its TEXCOORD_{set} accessor cannot be read"),
-                })
-            }
-        };
-        if coords.len() < vertices {
-            return Err(SceneError::Malformed {
-                path: name.into(),
-                what: format!("{at}: TEXCOORD_{set} has {} values for {vertices} vertices", coords.len()),
-            });
         }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        let children: Vec<_> = node.children().map(|c| (c, world, Some(node.index()))).collect();
+        stack.extend(children.into_iter().rev());
+        placed.push((node, world));
     }
-    Ok(Some(sets))
+    Ok(placed)
 }

@@ -162,6 +162,26 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
             }
         }
     }
+    // A skin's inverse bind matrices, one for each joint (glTF 2.0, "Skins"): fewer would leave
+    // a joint without one, another type would be misread.
+    for (k, skin) in list("skins").iter().enumerate() {
+        let at = format!("skins[{k}]");
+        let joints = skin.get("joints").and_then(Value::as_array).map_or(0, Vec::len);
+        if joints == 0 {
+            return Err(format!("{at}.joints: a skin has at least one joint"));
+        }
+        if let Some(a) = uint(skin, "inverseBindMatrices", &at)? {
+            let at = format!("{at}.inverseBindMatrices");
+            let &(count, _, components, kind, _) =
+                counts.get(a as usize).ok_or(format!("{at}: accessors[{a}] does not exist"))?;
+            if components != 16 || kind != Some(FLOAT) {
+                return Err(format!("{at}: accessors[{a}] must be MAT4 floats"));
+            }
+            if count < joints as u64 {
+                return Err(format!("{at}: accessors[{a}] holds {count} matrices for {joints} joints"));
+            }
+        }
+    }
     for (c, camera) in list("cameras").iter().enumerate() {
         if let Some(p) = camera.get("perspective") {
             let at = format!("cameras[{c}].perspective");
@@ -254,10 +274,12 @@ const FLOAT: u64 = 5126;
 const SIGNED_NORMALISED_TYPES: &[(u64, bool)] = &[(BYTE, true), (SHORT, true)];
 
 /// The types a vertex attribute that the reader reads may have (glTF 2.0's "Meshes", and
-/// `KHR_mesh_quantization`'s table): its component count, floats, and the integer component types
-/// (with whether they are normalised) of the core spec and of the extension.
+/// `KHR_mesh_quantization`'s table): its component count, whether floats are allowed (all but
+/// `JOINTS_n`), and the integer component types (with whether they are normalised) of the core
+/// spec and of the extension.
 struct AttributeTypes {
     components: u64,
+    floats: bool,
     core: &'static [(u64, bool)],
     quantized: &'static [(u64, bool)],
 }
@@ -275,14 +297,32 @@ impl AttributeTypes {
             (UNSIGNED_SHORT, false),
             (UNSIGNED_SHORT, true),
         ];
+        const UNSIGNED_NORMALISED: &[(u64, bool)] = &[(UNSIGNED_BYTE, true), (UNSIGNED_SHORT, true)];
+        let set = |prefix: &str| name.strip_prefix(prefix).is_some_and(|n| n.parse::<u32>().is_ok());
+        let floats =
+            |components, quantized| AttributeTypes { components, floats: true, core: &[], quantized };
         Some(match name {
-            "POSITION" => AttributeTypes { components: 3, core: &[], quantized: ANY_NORMALISATION },
-            "NORMAL" => AttributeTypes { components: 3, core: &[], quantized: SIGNED_NORMALISED_TYPES },
-            "TANGENT" => AttributeTypes { components: 4, core: &[], quantized: SIGNED_NORMALISED_TYPES },
+            "POSITION" => floats(3, ANY_NORMALISATION),
+            "NORMAL" => floats(3, SIGNED_NORMALISED_TYPES),
+            "TANGENT" => floats(4, SIGNED_NORMALISED_TYPES),
             "TEXCOORD_0" | "TEXCOORD_1" => AttributeTypes {
                 components: 2,
-                core: &[(UNSIGNED_BYTE, true), (UNSIGNED_SHORT, true)],
+                floats: true,
+                core: UNSIGNED_NORMALISED,
                 quantized: ANY_NORMALISATION,
+            },
+            // Joint indices are integers in every file; weights are floats or normalised.
+            _ if set("JOINTS_") => AttributeTypes {
+                components: 4,
+                floats: false,
+                core: &[(UNSIGNED_BYTE, false), (UNSIGNED_SHORT, false)],
+                quantized: &[],
+            },
+            _ if set("WEIGHTS_") => AttributeTypes {
+                components: 4,
+                floats: true,
+                core: UNSIGNED_NORMALISED,
+                quantized: UNSIGNED_NORMALISED,
             },
             _ => return None,
         })
@@ -293,13 +333,16 @@ impl AttributeTypes {
     fn allows(&self, components: u64, kind: Option<u64>, normalized: bool, quantized: bool) -> bool {
         let Some(kind) = kind else { return false };
         components == self.components
-            && (kind == FLOAT
+            && (kind == FLOAT && self.floats
                 || self.core.contains(&(kind, normalized))
                 || quantized && self.quantized.contains(&(kind, normalized)))
     }
 
     /// The types, in words, for the error that refuses another.
     fn describe(&self, quantized: bool) -> String {
+        if !self.floats {
+            return format!("a VEC{} of unsigned bytes or shorts", self.components);
+        }
         let vec = format!("a VEC{} of floats", self.components);
         match (self.core.is_empty(), quantized) {
             (true, false) => format!("{vec} (integers need {MESH_QUANTIZATION}, used and required)"),
@@ -478,7 +521,7 @@ mod tests {
     #[test]
     fn each_problem_is_named_by_its_path() {
         assert_eq!(validate(&doc(), &[48]), Ok(()));
-        let cases: [(&str, Value, &str); 17] = [
+        let cases: [(&str, Value, &str); 19] = [
             ("/buffers/0/byteLength", json!(4800), "buffers[0]: byteLength is 4800"),
             (
                 "/bufferViews/1/byteOffset",
@@ -529,6 +572,13 @@ mod tests {
                 json!(2),
                 "primitives[0]: TEXCOORD_0 must be a VEC2",
             ),
+            // Joint indices are integers; weights are not signed.
+            (
+                "/meshes/0/primitives/0/attributes/JOINTS_0",
+                json!(0),
+                "primitives[0]: JOINTS_0 must be a VEC4 of unsigned bytes or shorts",
+            ),
+            ("/meshes/0/primitives/0/attributes/WEIGHTS_1", json!(0), "WEIGHTS_1 must be a VEC4 of floats"),
         ];
         // Attributes of the types the spec gives them pass: normalised unsigned shorts too.
         let mut d = doc();
@@ -568,5 +618,24 @@ mod tests {
         d["materials"][0]["extensions"] =
             json!({"KHR_materials_emissive_strength": {"emissiveStrength": -2}});
         assert!(validate(&d, &[48]).unwrap_err().contains("emissiveStrength: -2 is not a finite number ≥ 0"));
+        // A skin's inverse bind matrices: MAT4 floats, one a joint or more.
+        let mut d = doc();
+        d["accessors"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({"componentType": 5126, "count": 1, "type": "MAT4"}));
+        d["skins"] = json!([{"joints": [0], "inverseBindMatrices": 3}]);
+        assert_eq!(validate(&d, &[48]), Ok(()));
+        d["skins"][0]["joints"] = json!([0, 0]);
+        assert!(validate(&d, &[48])
+            .unwrap_err()
+            .contains("skins[0].inverseBindMatrices: accessors[3] holds 1 matrices for 2 joints"));
+        d["skins"][0]["joints"] = json!([0]);
+        d["accessors"][3]["type"] = json!("MAT3");
+        assert!(validate(&d, &[48])
+            .unwrap_err()
+            .contains("skins[0].inverseBindMatrices: accessors[3] must be MAT4 floats"));
+        d["skins"][0]["joints"] = json!([]);
+        assert!(validate(&d, &[48]).unwrap_err().contains("skins[0].joints: a skin has at least one joint"));
     }
 }
