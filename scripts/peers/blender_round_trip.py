@@ -132,11 +132,14 @@ def checker_image(bpy, np):
     return img
 
 
-def build(out, glass=True, plain=False, draco=False, shape_keys=None):
+def build(out, glass=True, plain=False, draco=False, shape_keys=None, armature=None):
     """Builds the scene in Blender and exports it to OUT/round_trip.gltf; its path. With
     `shape_keys` the white ball (`plain`) gets two shape keys, "squash" at 0.7 and "lift" at 0:
     "targets" exports them as morph targets with their weights (the exporter's default), "baked"
-    exports Blender's own evaluation of the mix instead, a mesh without shape keys."""
+    exports Blender's own evaluation of the mix instead, a mesh without shape keys. With
+    `armature` the ball is bent by a posed two-bone armature (`add_armature`): "posed" exports
+    the skin with the pose (`export_rest_position_armature` off: the joints hold the current
+    frame's pose), "baked" Blender's own evaluation of the posed mesh, without armature."""
     import bpy
     import numpy as np
 
@@ -198,6 +201,8 @@ def build(out, glass=True, plain=False, draco=False, shape_keys=None):
     ball = add(bpy.context.object, material("white ball", (0.8, 0.8, 0.8)) if plain else gold())
     if shape_keys:
         add_shape_keys(bpy, ball, baked=shape_keys == "baked")
+    if armature:
+        add_armature(bpy, ball, baked=armature == "baked")
     if glass:
         bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=GLASS_RADIUS, location=GLASS_AT)
         add(bpy.context.object, glass_material())
@@ -226,7 +231,8 @@ def build(out, glass=True, plain=False, draco=False, shape_keys=None):
 
     path = os.path.join(out, "round_trip.gltf")
     bpy.ops.export_scene.gltf(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True, export_lights=True,
-                              export_draco_mesh_compression_enable=draco, export_morph=shape_keys == "targets")
+                              export_draco_mesh_compression_enable=draco, export_morph=shape_keys == "targets",
+                              export_rest_position_armature=False)
     if glass:
         print(check_glass(path))
     if not plain:
@@ -252,6 +258,53 @@ def add_shape_keys(bpy, obj, baked):
         mesh = bpy.data.meshes.new_from_object(evaluated)
         obj.shape_key_clear()
         obj.data = mesh
+
+
+def add_armature(bpy, obj, baked):
+    """A two-bone armature bending `obj` (the ball, radius 0.6): "lower" from the ball's bottom to
+    its centre, "upper" from its centre to its top (its child); the ball's lower half weighted to
+    "lower", its upper half to "upper", blended linearly over 0.9 about the equator (over a
+    narrower band, the blend folds the faces there). The armature object is moved and turned, and
+    the ball made its child in place, so the exporter writes the ball's node under a transformed
+    node (which a skinned mesh does not apply). Posed: "upper" turned 35° about its x axis,
+    "lower" moved 0.1 along its x axis. `baked`: the ball's mesh replaced by Blender's evaluation
+    of the pose, the armature removed."""
+    from mathutils import Vector
+
+    centre = obj.matrix_world.translation.copy()
+    bpy.ops.object.armature_add(location=(0.2, -0.1, 0.05), rotation=(0, 0, math.radians(20.0)))
+    arm = bpy.context.object
+    to_armature = arm.matrix_world.inverted()
+    bpy.ops.object.mode_set(mode="EDIT")
+    lower = arm.data.edit_bones[0]
+    lower.name = "lower"
+    lower.head, lower.tail = to_armature @ (centre - Vector((0, 0, 0.6))), to_armature @ centre
+    upper = arm.data.edit_bones.new("upper")
+    upper.head, upper.tail = to_armature @ centre, to_armature @ (centre + Vector((0, 0, 0.6)))
+    upper.parent = lower
+    bpy.ops.object.mode_set(mode="OBJECT")
+    obj.parent = arm
+    obj.matrix_parent_inverse = to_armature  # the ball keeps its place
+    obj.modifiers.new("armature", "ARMATURE").object = arm
+    groups = obj.vertex_groups.new(name="lower"), obj.vertex_groups.new(name="upper")
+    for v in obj.data.vertices:
+        w = min(max((v.co.z + 0.45) / 0.9, 0.0), 1.0)
+        groups[0].add([v.index], 1.0 - w, "REPLACE")
+        groups[1].add([v.index], w, "REPLACE")
+    arm.pose.bones["upper"].rotation_mode = "XYZ"
+    arm.pose.bones["upper"].rotation_euler = (math.radians(35.0), 0, 0)
+    arm.pose.bones["lower"].location = (0.1, 0, 0)
+    bpy.context.view_layer.update()
+    if baked:
+        evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+        mesh = bpy.data.meshes.new_from_object(evaluated)
+        world = obj.matrix_world.copy()
+        obj.modifiers.clear()
+        obj.vertex_groups.clear()
+        obj.parent = None
+        obj.matrix_world = world
+        obj.data = mesh
+        bpy.data.objects.remove(arm)
 
 
 def in_own_python(code):
