@@ -465,6 +465,19 @@ fn textured_passes_agree_on_device_and_cpu() {
     }
 }
 
+/// On vertex colours (`tests/colors/attribute`: Blender's export of a ball whose faces' colours
+/// its material reads from `COLOR_0`, under `sky_map` too, so that most paths carry light): the
+/// colour store and the base colour it multiplies.
+#[test]
+fn vertex_colour_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("vertex_colour_passes_agree_on_device_and_cpu") {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/colors/attribute/round_trip.gltf");
+        let scene = SceneData::load_with_environment(&path, Some(common::scenes::sky_map(30.0)));
+        difftest_both_estimators(gpu, &scene.expect("the coloured ball"));
+    }
+}
+
 /// On smooth normals (`scenes/smooth.gltf`: interpolated `NORMAL`s on a white, a gold and a
 /// glass ball; `bent_floor`: normals leaning 40°): the normal store, the shading frame, the
 /// zero where the normals disagree about a side, and the adjoint cosine on light subpaths.

@@ -339,6 +339,129 @@ fn blender_s_posed_armature_loads_as_blender_poses_it() {
     assert!(widest < 12.0, "normals {widest}° off their faces");
 }
 
+/// The positions of `doc`'s first primitive, decoded from its data URI buffer.
+fn first_positions(doc: &Value) -> Vec<Vec3> {
+    let accessor = &doc["accessors"]
+        [doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"].as_u64().unwrap() as usize];
+    let view = &doc["bufferViews"][accessor["bufferView"].as_u64().unwrap() as usize];
+    let uri = doc["buffers"][view["buffer"].as_u64().unwrap() as usize]["uri"].as_str().unwrap();
+    let bytes = base64::engine::general_purpose::STANDARD.decode(uri.split_once(',').unwrap().1).unwrap();
+    let offset = view["byteOffset"].as_u64().unwrap_or(0) + accessor["byteOffset"].as_u64().unwrap_or(0);
+    let floats: Vec<f32> = bytes[offset as usize..]
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .take(3 * accessor["count"].as_u64().unwrap() as usize)
+        .map(|b| f32::from_le_bytes(*b))
+        .collect();
+    floats.as_chunks::<3>().0.iter().map(|p| Vec3::from_array(*p)).collect()
+}
+
+/// `COLOR_0` (Blender's colour attribute where its material reads it): its triangles draw a copy
+/// of their material that reads the colours, carried at their corners (normalised shorts, read
+/// to 1/65535); a primitive of the same material without colours keeps the material. An alpha
+/// below 1 on a cut-out material is named in a warning (not applied); a colour beyond [0, 1] is
+/// refused by path.
+#[test]
+fn vertex_colors_ride_on_a_copy_of_the_material() {
+    let mut doc = one_light_doc();
+    let positions = first_positions(&doc);
+    // The colour of a vertex at (x, y, 0): (x, y, 0.25); one vertex's alpha 0.5.
+    let rgba: Vec<[u16; 4]> = positions
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let c = [p.x, p.y, 0.25, if i == 0 { 0.5 } else { 1.0 }];
+            c.map(|x| (x * 65535.0).round() as u16)
+        })
+        .collect();
+    let data: Vec<u8> = rgba.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    let n = positions.len();
+    let colors = push_accessors(&mut doc, &data, &[(0, data.len(), 5123, "VEC4", true, n)]);
+    let plain = doc["meshes"][0]["primitives"][0].clone();
+    doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = json!(colors);
+    doc["meshes"][0]["primitives"].as_array_mut().unwrap().push(plain); // the same triangles, uncoloured
+    let scene = load(&doc).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let original = scene.materials[1];
+    assert_eq!(scene.materials.len(), 3, "the default, the lamp, its coloured copy");
+    let copy = scene.materials[2];
+    assert_eq!(Material { textures: original.textures, ..copy }, original);
+    assert_eq!(scene.material_textures[copy.textures as usize].vertex_colors, 1);
+    let (mut coloured, mut uncoloured) = (0, 0);
+    for (t, c) in scene.triangles.iter().zip(&scene.colors) {
+        if t.material == 1 {
+            uncoloured += 1;
+            continue;
+        }
+        coloured += 1;
+        for (k, v) in [t.v0, t.v1, t.v2].into_iter().enumerate() {
+            let expected = Vec3::new(v[0], v[1], 0.25);
+            let got = Vec3::from_slice(&c.rgb[3 * k..3 * k + 3]);
+            assert!((got - expected).abs().max_element() < 1e-4, "{got} at {v:?}");
+        }
+    }
+    assert_eq!((coloured, uncoloured), (n / 3, n / 3));
+    // On a cut-out material the alpha is named, not applied.
+    let mut blend = doc.clone();
+    blend["materials"].as_array_mut().unwrap().push(json!({"alphaMode": "BLEND"}));
+    blend["meshes"][0]["primitives"][0]["material"] = json!(1);
+    let scene = load(&blend).unwrap();
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("meshes[0].primitives[0]: COLOR_0's alpha is not applied")),
+        "{:?}",
+        scene.warnings
+    );
+    // Floats beyond [0, 1] are refused by path.
+    let mut bright = doc.clone();
+    let data: Vec<u8> = (0..n).flat_map(|_| [2.0f32, 0.5, 0.5]).flat_map(f32::to_le_bytes).collect();
+    let floats = push_accessors(&mut bright, &data, &[(0, data.len(), 5126, "VEC3", false, n)]);
+    bright["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = json!(floats);
+    let err = load(&bright).unwrap_err().to_string();
+    assert!(
+        err.contains("meshes[0].primitives[0]: COLOR_0 0: [2.0, 0.5, 0.5, 1.0] lies outside [0, 1]"),
+        "{err}"
+    );
+}
+
+/// Blender's colour attribute as its exporter writes it (`tests/colors/attribute`: the round-trip
+/// scene's ball with its faces in four colours, a float `COLOR_0` its material reads) shades as
+/// Blender's four materials of those base colours (`tests/colors/baked`, one a face;
+/// `tests/colors/PROVENANCE.md`): every face of the ball has the base colour of its twin.
+#[test]
+fn blender_s_colour_attribute_shades_as_its_colours_materials() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/colors");
+    let coloured = SceneData::load(&root.join("attribute/round_trip.gltf")).unwrap();
+    let baked = SceneData::load(&root.join("baked/round_trip.gltf")).unwrap();
+    assert!(coloured.warnings.is_empty(), "{:?}", coloured.warnings);
+    assert_eq!(coloured.triangles.len(), baked.triangles.len());
+    let key = |t: &shared::triangle::Triangle| {
+        let c = (Vec3::from_array(t.v0) + Vec3::from_array(t.v1) + Vec3::from_array(t.v2)) / 3.0;
+        (c * 1e4).round().to_array().map(|x| x as i64)
+    };
+    let twins: std::collections::HashMap<_, _> =
+        baked.triangles.iter().map(|t| (key(t), baked.materials[t.material as usize].albedo)).collect();
+    let scene = coloured.with_caster(());
+    let mut faces = 0;
+    for (i, t) in coloured.triangles.iter().enumerate() {
+        if coloured.material_textures[coloured.materials[t.material as usize].textures as usize].vertex_colors
+            == 0
+        {
+            continue;
+        }
+        faces += 1;
+        let twin = twins[&key(t)];
+        for b in [glam::Vec2::new(1.0 / 3.0, 1.0 / 3.0), glam::Vec2::new(0.8, 0.1)] {
+            let albedo = shared::surface::material_at_barycentrics(&scene, i as u32, b).albedo;
+            assert!(
+                (Vec3::from_array(albedo) - Vec3::from_array(twin)).abs().max_element() < 1e-6,
+                "{albedo:?} against {twin:?}"
+            );
+        }
+    }
+    assert_eq!(faces, 320, "the ball's faces");
+}
+
 /// `EXT_mesh_gpu_instancing` (glTF-Transform's `instance`, run by its `optimize` by default,
 /// which does not mark it required): a node's mesh is drawn once an instance, at the node's
 /// matrix times the instance's TRS — the triangles of the same mesh on one plain node per

@@ -101,6 +101,7 @@ pub const SCENE_BINDINGS: &[Binding] = &[
     scene_binding(10, "texcoords", core::any::type_name::<shared::surface::TriangleTexcoords>),
     scene_binding(11, "normals", core::any::type_name::<shared::normals::TriangleNormals>),
     scene_binding(12, "tangents", core::any::type_name::<shared::normal_map::TriangleTangents>),
+    scene_binding(13, "colors", core::any::type_name::<shared::surface::TriangleColors>),
 ];
 
 const fn scene_binding(binding: u32, name: &'static str, element: fn() -> &'static str) -> Binding {
@@ -297,6 +298,7 @@ macro_rules! stage {
             #[spirv(storage_buffer, descriptor_set = 1, binding = 10)] texcoords: &[shared::surface::TriangleTexcoords],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 11)] normals: &[shared::normals::TriangleNormals],
             #[spirv(storage_buffer, descriptor_set = 1, binding = 12)] tangents: &[shared::normal_map::TriangleTangents],
+            #[spirv(storage_buffer, descriptor_set = 1, binding = 13)] colors: &[shared::surface::TriangleColors],
         ], [
             scene: shared::scene::Scene {
                 caster: shared::cwbvh::WideBvh {
@@ -323,6 +325,7 @@ macro_rules! stage {
                 texcoords,
                 normals,
                 tangents,
+                colors,
             },
         ]);
         impl<$lt, $r: shared::ray_caster::RayCaster + Copy> $io<$lt, $r> {

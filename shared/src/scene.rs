@@ -10,7 +10,7 @@ use crate::light::LightEntry;
 use crate::normal_map::TriangleTangents;
 use crate::normals::TriangleNormals;
 use crate::punctual::PunctualLight;
-use crate::surface::{MaterialTextures, TriangleTexcoords};
+use crate::surface::{MaterialTextures, TriangleColors, TriangleTexcoords};
 use crate::texture::Texture;
 use crate::triangle::Triangle;
 
@@ -48,4 +48,7 @@ pub struct Scene<'a, R> {
     /// material has a normal texture, its mesh normals: `crate::normal_map`); one zeroed entry
     /// otherwise.
     pub tangents: &'a [TriangleTangents],
+    /// Per triangle in the triangles' order where any material has vertex colours
+    /// (`MaterialTextures::vertex_colors`); one zeroed entry otherwise.
+    pub colors: &'a [TriangleColors],
 }

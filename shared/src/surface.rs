@@ -5,7 +5,8 @@
 //!
 //! A material without textures ([`Material::textures`] 0) is the triangle's material as it is;
 //! otherwise (glTF 2.0's `pbrMetallicRoughness`, `emissiveTexture` and `normalTexture`):
-//! - the base colour is `baseColorFactor` × `baseColorTexture`'s sRGB-decoded rgb;
+//! - the base colour is `baseColorFactor` × `baseColorTexture`'s sRGB-decoded rgb × the
+//!   vertices' `COLOR_0` ([`TriangleColors`], where the material's triangles have it);
 //! - roughness is `roughnessFactor` × the green channel and metallic `metallicFactor` × the
 //!   blue channel of `metallicRoughnessTexture` (linear), mixed with transmission as the
 //!   untextured material is ([`Material::with_metallic`]);
@@ -71,6 +72,9 @@ pub struct MaterialTextures {
     pub clearcoat_normal: TextureRef,
     /// clearcoatNormalTexture's scale.
     pub clearcoat_normal_scale: f32,
+    /// 1 where the material's triangles carry `COLOR_0` ([`TriangleColors`]), which multiplies
+    /// the base colour; 0 otherwise.
+    pub vertex_colors: u32,
 }
 
 impl MaterialTextures {
@@ -111,6 +115,28 @@ impl TriangleTexcoords {
             (Vec2::new(u[0], u[1]), Vec2::new(u[2], u[3]), Vec2::new(u[4], u[5]))
         };
         a * b.x + c * b.y + d * (1.0 - b.x - b.y)
+    }
+}
+
+/// A triangle's vertex colours (glTF's `COLOR_0`, linear RGB; uploaded as it is, one per triangle
+/// in the triangles' order where any material has them), which multiply the base colour where the
+/// triangle's material says so ([`MaterialTextures::vertex_colors`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TriangleColors {
+    /// RGB of v0, v1, v2.
+    pub rgb: [f32; 9],
+}
+
+impl TriangleColors {
+    /// The colour at barycentric coordinates `b` (weights of v0, v1).
+    #[inline]
+    pub fn at(&self, b: Vec2) -> Vec3 {
+        // Constant indices only: rust-gpu cannot index a local array by a value.
+        let c = &self.rgb;
+        Vec3::new(c[0], c[1], c[2]) * b.x
+            + Vec3::new(c[3], c[4], c[5]) * b.y
+            + Vec3::new(c[6], c[7], c[8]) * (1.0 - b.x - b.y)
     }
 }
 
@@ -270,6 +296,10 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
             }
         }
         slot += 1;
+    }
+    if t.vertex_colors != 0 {
+        let c = element_or(scene.colors, triangle as usize, TriangleColors::default()).at(b);
+        out.albedo = (Vec3::from_array(out.albedo) * c).to_array();
     }
     out
 }

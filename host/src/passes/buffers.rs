@@ -16,7 +16,7 @@ use shared::normal_map::TriangleTangents;
 use shared::normals::TriangleNormals;
 use shared::params::{RenderParams, ESTIMATOR_PATH};
 use shared::punctual::PunctualLight;
-use shared::surface::{MaterialTextures, TriangleTexcoords};
+use shared::surface::{MaterialTextures, TriangleColors, TriangleTexcoords};
 use shared::texture::Texture;
 use shared::triangle::Triangle;
 
@@ -203,6 +203,8 @@ pub struct SceneBuffers<S: Storage> {
     pub normals: S::Of<TriangleNormals>,
     /// Per triangle where a mesh has vertex tangents (at least one entry).
     pub tangents: S::Of<TriangleTangents>,
+    /// Per triangle where a material has vertex colours (at least one entry).
+    pub colors: S::Of<TriangleColors>,
 }
 
 impl<S: Storage> SceneBuffers<S> {
@@ -222,6 +224,7 @@ impl<S: Storage> SceneBuffers<S> {
             texcoords: s.copy_of("texcoords", "texture coordinates", &scene.texcoords),
             normals: s.copy_of("normals", "vertex normals", &scene.normals),
             tangents: s.copy_of("tangents", "vertex tangents", &scene.tangents),
+            colors: s.copy_of("colors", "vertex colours", &scene.colors),
         }
     }
 

@@ -37,6 +37,7 @@
 //! same bounding sphere's disks as a directional light's.
 
 mod attributes;
+mod colors;
 mod draco;
 mod environment;
 mod instancing;
@@ -70,7 +71,7 @@ use shared::normal_map::TriangleTangents;
 use shared::normals::TriangleNormals;
 use shared::punctual::PunctualLight;
 use shared::scene::Scene;
-use shared::surface::{MaterialTextures, TriangleTexcoords};
+use shared::surface::{MaterialTextures, TriangleColors, TriangleTexcoords};
 use shared::texture::Texture;
 use shared::triangle::{Triangle, TriangleEdges};
 
@@ -207,6 +208,9 @@ pub struct SceneData {
     /// Per triangle in `triangles`' order where any triangle has vertex tangents (a normal
     /// texture's, `shared::normal_map`); one zeroed entry otherwise.
     pub tangents: Vec<TriangleTangents>,
+    /// Per triangle in `triangles`' order where any material has vertex colours
+    /// (`MaterialTextures::vertex_colors`); one zeroed entry otherwise.
+    pub colors: Vec<TriangleColors>,
     /// The camera of the selected view.
     pub camera: CameraSpec,
     /// Every camera of the file, in scene order (views 1, 2, …).
@@ -241,6 +245,9 @@ pub struct TriangleSoup {
     /// Vertex tangents of each triangle, up to the last one that has them (zeros where it has
     /// none; empty: none anywhere).
     pub tangents: Vec<TriangleTangents>,
+    /// Vertex colours (`COLOR_0`) of each triangle, up to the last one whose material has them
+    /// (zeros where it has none; empty: none anywhere).
+    pub colors: Vec<TriangleColors>,
     /// The file's punctual lights in world space (a directional light's centre and radius are
     /// set from the scene's bounds when the scene is built).
     pub punctual: Vec<PunctualLight>,
@@ -313,6 +320,7 @@ impl SceneData {
             texcoords: &self.texcoords,
             normals: &self.normals,
             tangents: &self.tangents,
+            colors: &self.colors,
         }
     }
 
@@ -538,6 +546,15 @@ impl SceneData {
         } else {
             vec![TriangleTangents::default()]
         };
+        // Vertex colours likewise, where any material has them.
+        let colors = if soup.colors.is_empty() {
+            vec![TriangleColors::default()]
+        } else {
+            bvh.primitive_indices
+                .iter()
+                .map(|&i| soup.colors.get(i as usize).copied().unwrap_or_default())
+                .collect()
+        };
         let mut material_textures = soup.material_textures;
         if material_textures.is_empty() {
             material_textures.push(MaterialTextures::default());
@@ -561,6 +578,7 @@ impl SceneData {
             texcoords,
             normals,
             tangents,
+            colors,
             camera,
             views: soup.cameras,
             bounds: (lo, hi),

@@ -5,12 +5,14 @@
 //! the soup.
 
 use glam::{Mat3, Mat4, Vec3, Vec4};
+use shared::cutout::ALPHA_OPAQUE;
 use shared::normal_map::TriangleTangents;
 use shared::normals::TriangleNormals;
-use shared::surface::TriangleTexcoords;
+use shared::surface::{TriangleColors, TriangleTexcoords};
 use shared::texture::TextureRef;
 
 use super::attributes;
+use super::colors::{self, ColouredMaterials};
 use super::morph;
 use super::read::MAX_COORDINATE;
 use super::tangents;
@@ -32,6 +34,8 @@ pub struct MeshPrimitive {
     pub texcoords: Option<[Vec<[f32; 2]>; 2]>,
     /// A normal texture's tangents at each triangle's corners (None: no normal texture).
     pub tangents: Option<Vec<[Vec4; 3]>>,
+    /// Vertex colours, linear RGB (`COLOR_0`; None: it has none).
+    pub colors: Option<Vec<[f32; 3]>>,
 }
 
 /// Where a primitive's vertices go in the world.
@@ -61,7 +65,7 @@ pub fn read<'a, 's, F>(
     (mesh, prim): (&gltf::Mesh<'a>, &gltf::Primitive<'a>),
     weights: &[f32],
     placeholders: &[usize],
-    soup: &mut TriangleSoup,
+    (soup, coloured): (&mut TriangleSoup, &mut ColouredMaterials),
     name: &str,
 ) -> Result<Option<MeshPrimitive>, SceneError>
 where
@@ -118,7 +122,20 @@ where
         },
         None => (0..local.len() as u32).collect(),
     };
-    let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
+    let mut material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
+    // Vertex colours draw a copy of the material that reads them (`colors`).
+    let colors = match colors::read(get.clone(), prim, local.len(), (&at, name))? {
+        Some(colors) => {
+            if colors.translucent && coloured.textures_of(material).alpha_mode != ALPHA_OPAQUE {
+                soup.warnings.push(format!(
+                    "{at}: COLOR_0's alpha is not applied to its material's cut-out (alphaMode MASK or BLEND)"
+                ));
+            }
+            material = coloured.of(material, soup);
+            Some(colors.rgb)
+        }
+        None => None,
+    };
     let textures = soup.materials[material as usize].textures;
     let texcoords = read_texcoords(get.clone(), prim, soup, material, &at, local.len(), name)?;
     let normals = read_normals(get.clone(), prim, weights, &at, local.len(), name)?;
@@ -163,6 +180,7 @@ where
         normals,
         texcoords,
         tangents,
+        colors,
         at,
     }))
 }
@@ -247,6 +265,12 @@ impl MeshPrimitive {
                     let t = [t[0].to_array(), t[1].to_array(), t[2].to_array()];
                     soup.tangents.push(TriangleTangents { t: *t.as_flattened().as_array().expect("twelve") });
                 }
+            }
+            if let Some(colors) = &self.colors {
+                // Stored up to the last coloured triangle (the rest read none).
+                soup.colors.resize(soup.triangles.len() - 1, TriangleColors::default());
+                let c = corners.map(|i| colors[i as usize]);
+                soup.colors.push(TriangleColors { rgb: *c.as_flattened().as_array().expect("nine") });
             }
             if let Some(sets) = &self.texcoords {
                 let mut uv = [0.0f32; 12];
@@ -350,6 +374,10 @@ where
         return Ok(None);
     }
     let t = &soup.material_textures[textures as usize];
+    // A textures entry for a cut-out or vertex colours alone reads no coordinates.
+    if !t.slots().iter().any(TextureRef::is_some) {
+        return Ok(None);
+    }
     let mut sets = [Vec::new(), Vec::new()];
     for (set, coords) in sets.iter_mut().enumerate() {
         let uses = t.slots().iter().any(|r| r.is_some() && r.tex_coord == set as u32);

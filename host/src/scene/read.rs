@@ -10,6 +10,7 @@ use shared::environment::EnvironmentMap;
 use shared::surface::MaterialTextures;
 use shared::texture::TextureRef;
 
+use super::colors::ColouredMaterials;
 use super::instancing;
 use super::morph;
 use super::parse::{parse, Parsed};
@@ -243,13 +244,14 @@ fn ignored_textures(doc: &gltf::Document) -> Vec<String> {
     .collect()
 }
 
-/// A material, and its textures where it has any (`Material::textures` is set by the caller).
+/// A material, its textures entry, and whether it keeps one (it has textures or a cut-out;
+/// `Material::textures` is set by the caller).
 fn read_material(
     m: &gltf::Material,
     store: &mut TextureStore,
     source: &Source,
     warnings: &mut Vec<String>,
-) -> Result<(Material, Option<MaterialTextures>), SceneError> {
+) -> Result<(Material, MaterialTextures, bool), SceneError> {
     let name = source.name;
     let label =
         m.name().map(|n| format!("material '{n}'")).unwrap_or_else(|| format!("material {:?}", m.index()));
@@ -365,7 +367,7 @@ fn read_material(
         ..glass
     }
     .with_metallic(metallic, glass.transmission);
-    Ok((material, textured.then_some(textures)))
+    Ok((material, textures, textured))
 }
 
 /// A material's `KHR_materials_clearcoat` (its numbers checked by `super::validate`).
@@ -568,14 +570,27 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
     soup.material_textures.push(MaterialTextures::default());
     let mut store = TextureStore::default();
     soup.warnings.extend(ignored_textures(doc));
+    // Every material's textures entry as built (glTF's default material's first), for the
+    // copies that vertex colours make.
+    let mut built = vec![MaterialTextures {
+        metallic: 1.0,
+        roughness: 1.0,
+        alpha: 1.0,
+        alpha_cutoff: 0.5,
+        normal_scale: 1.0,
+        clearcoat_normal_scale: 1.0,
+        ..Default::default()
+    }];
     for m in doc.materials() {
-        let (mut mat, textures) = read_material(&m, &mut store, source, &mut soup.warnings)?;
-        if let Some(t) = textures {
+        let (mut mat, textures, textured) = read_material(&m, &mut store, source, &mut soup.warnings)?;
+        if textured {
             mat.textures = soup.material_textures.len() as u32;
-            soup.material_textures.push(t);
+            soup.material_textures.push(textures);
         }
         soup.materials.push(mat);
+        built.push(textures);
     }
+    let mut coloured = ColouredMaterials::new(built);
     soup.textures = store.textures;
     soup.texels = store.texels;
     // Texture coordinates are kept for every triangle where any material reads them, none
@@ -671,8 +686,14 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
             };
             let weights = morph::weights(&node, &mesh);
             for prim in mesh.primitives() {
-                let Some(local) =
-                    primitive::read(get, (&mesh, &prim), weights, placeholders, &mut soup, name)?
+                let Some(local) = primitive::read(
+                    get,
+                    (&mesh, &prim),
+                    weights,
+                    placeholders,
+                    (&mut soup, &mut coloured),
+                    name,
+                )?
                 else {
                     continue;
                 };

@@ -274,11 +274,11 @@ const FLOAT: u64 = 5126;
 const SIGNED_NORMALISED_TYPES: &[(u64, bool)] = &[(BYTE, true), (SHORT, true)];
 
 /// The types a vertex attribute that the reader reads may have (glTF 2.0's "Meshes", and
-/// `KHR_mesh_quantization`'s table): its component count, whether floats are allowed (all but
-/// `JOINTS_n`), and the integer component types (with whether they are normalised) of the core
-/// spec and of the extension.
+/// `KHR_mesh_quantization`'s table): its component counts (one, but `COLOR_0`'s RGB or RGBA),
+/// whether floats are allowed (all but `JOINTS_n`), and the integer component types (with whether
+/// they are normalised) of the core spec and of the extension.
 struct AttributeTypes {
-    components: u64,
+    components: &'static [u64],
     floats: bool,
     core: &'static [(u64, bool)],
     quantized: &'static [(u64, bool)],
@@ -302,24 +302,30 @@ impl AttributeTypes {
         let floats =
             |components, quantized| AttributeTypes { components, floats: true, core: &[], quantized };
         Some(match name {
-            "POSITION" => floats(3, ANY_NORMALISATION),
-            "NORMAL" => floats(3, SIGNED_NORMALISED_TYPES),
-            "TANGENT" => floats(4, SIGNED_NORMALISED_TYPES),
+            "POSITION" => floats(&[3], ANY_NORMALISATION),
+            "NORMAL" => floats(&[3], SIGNED_NORMALISED_TYPES),
+            "TANGENT" => floats(&[4], SIGNED_NORMALISED_TYPES),
             "TEXCOORD_0" | "TEXCOORD_1" => AttributeTypes {
-                components: 2,
+                components: &[2],
                 floats: true,
                 core: UNSIGNED_NORMALISED,
                 quantized: ANY_NORMALISATION,
             },
             // Joint indices are integers in every file; weights are floats or normalised.
+            "COLOR_0" => AttributeTypes {
+                components: &[3, 4],
+                floats: true,
+                core: UNSIGNED_NORMALISED,
+                quantized: UNSIGNED_NORMALISED,
+            },
             _ if set("JOINTS_") => AttributeTypes {
-                components: 4,
+                components: &[4],
                 floats: false,
                 core: &[(UNSIGNED_BYTE, false), (UNSIGNED_SHORT, false)],
                 quantized: &[],
             },
             _ if set("WEIGHTS_") => AttributeTypes {
-                components: 4,
+                components: &[4],
                 floats: true,
                 core: UNSIGNED_NORMALISED,
                 quantized: UNSIGNED_NORMALISED,
@@ -332,7 +338,7 @@ impl AttributeTypes {
     /// extension's counted where the file uses it (`quantized`).
     fn allows(&self, components: u64, kind: Option<u64>, normalized: bool, quantized: bool) -> bool {
         let Some(kind) = kind else { return false };
-        components == self.components
+        self.components.contains(&components)
             && (kind == FLOAT && self.floats
                 || self.core.contains(&(kind, normalized))
                 || quantized && self.quantized.contains(&(kind, normalized)))
@@ -340,10 +346,12 @@ impl AttributeTypes {
 
     /// The types, in words, for the error that refuses another.
     fn describe(&self, quantized: bool) -> String {
+        let vecs: Vec<String> = self.components.iter().map(|c| format!("VEC{c}")).collect();
+        let vecs = vecs.join(" or ");
         if !self.floats {
-            return format!("a VEC{} of unsigned bytes or shorts", self.components);
+            return format!("a {vecs} of unsigned bytes or shorts");
         }
-        let vec = format!("a VEC{} of floats", self.components);
+        let vec = format!("a {vecs} of floats");
         match (self.core.is_empty(), quantized) {
             (true, false) => format!("{vec} (integers need {MESH_QUANTIZATION}, used and required)"),
             (false, false) => format!(
@@ -521,7 +529,7 @@ mod tests {
     #[test]
     fn each_problem_is_named_by_its_path() {
         assert_eq!(validate(&doc(), &[48]), Ok(()));
-        let cases: [(&str, Value, &str); 19] = [
+        let cases: [(&str, Value, &str); 20] = [
             ("/buffers/0/byteLength", json!(4800), "buffers[0]: byteLength is 4800"),
             (
                 "/bufferViews/1/byteOffset",
@@ -579,6 +587,12 @@ mod tests {
                 "primitives[0]: JOINTS_0 must be a VEC4 of unsigned bytes or shorts",
             ),
             ("/meshes/0/primitives/0/attributes/WEIGHTS_1", json!(0), "WEIGHTS_1 must be a VEC4 of floats"),
+            // Colours are RGB or RGBA, floats or normalised unsigned integers.
+            (
+                "/meshes/0/primitives/0/attributes/COLOR_0",
+                json!(2),
+                "primitives[0]: COLOR_0 must be a VEC3 or VEC4 of floats, or of normalised unsigned bytes or shorts",
+            ),
         ];
         // Attributes of the types the spec gives them pass: normalised unsigned shorts too.
         let mut d = doc();

@@ -23,6 +23,7 @@ struct Fixture {
     texcoords: Vec<TriangleTexcoords>,
     normals: Vec<TriangleNormals>,
     tangents: Vec<TriangleTangents>,
+    colors: Vec<TriangleColors>,
     lights: [LightEntry; 1],
     punctual: [PunctualLight; 1],
     environment: Environment,
@@ -44,6 +45,7 @@ impl Fixture {
             texcoords: &self.texcoords,
             normals: &self.normals,
             tangents: &self.tangents,
+            colors: &self.colors,
         }
     }
 }
@@ -110,6 +112,7 @@ fn fixture() -> Fixture {
                 clearcoat_roughness_factor: 0.0,
                 clearcoat_normal: TextureRef::NONE,
                 clearcoat_normal_scale: 1.0,
+                vertex_colors: 0,
             },
         ],
         textures: vec![
@@ -140,6 +143,7 @@ fn fixture() -> Fixture {
         lights: [LightEntry { light: 0, cdf: 1.0 }],
         normals: vec![TriangleNormals::default()],
         tangents: vec![TriangleTangents::default()],
+        colors: vec![TriangleColors::default()],
         punctual: [NO_PUNCTUAL],
         environment: NO_ENVIRONMENT,
     }
@@ -167,6 +171,34 @@ fn a_material_without_textures_is_the_same_everywhere() {
     let p = Vec3::new(0.7, 0.1, 0.0);
     assert_eq!(material_at(&scene, 1, p), f.materials[2]);
     assert_eq!(material_at_barycentrics(&scene, 1, Vec2::new(0.2, 0.7)), f.materials[2]);
+}
+
+/// `COLOR_0` multiplies the base colour (factor × texture) where the material says so,
+/// interpolated over the triangle; nothing else changes, and a material without the flag ignores
+/// the colours.
+#[test]
+fn vertex_colors_multiply_the_base_colour() {
+    let mut f = fixture();
+    f.colors = vec![TriangleColors { rgb: [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0] }; 2];
+    let p = Vec3::new(0.7, 0.1, 0.0); // weights: v0 0.2, v1 0.7, v2 0.1
+    let uncoloured = material_at(&f.scene(), 0, p);
+    f.material_textures[1].vertex_colors = 1;
+    let coloured = material_at(&f.scene(), 0, p);
+    let expected = Vec3::from_array(uncoloured.albedo) * Vec3::new(0.2, 0.7, 0.1);
+    assert!((Vec3::from_array(coloured.albedo) - expected).abs().max_element() < 1e-6, "{coloured:?}");
+    assert_eq!(Material { albedo: uncoloured.albedo, ..coloured }, uncoloured);
+    // The same through light sampling's barycentric lookup.
+    let b = Vec2::new(0.2, 0.7);
+    assert_eq!(material_at_barycentrics(&f.scene(), 0, b).albedo, coloured.albedo);
+    // A material with colours and no texture: the factor times the colour.
+    f.material_textures[1] = MaterialTextures { vertex_colors: 1, alpha: 1.0, ..Default::default() };
+    let m = material_at(&f.scene(), 0, p);
+    assert!(
+        (Vec3::from_array(m.albedo) - Vec3::new(0.5, 1.0, 1.0) * Vec3::new(0.2, 0.7, 0.1))
+            .abs()
+            .max_element()
+            < 1e-6
+    );
 }
 
 #[test]
