@@ -132,14 +132,17 @@ def checker_image(bpy, np):
     return img
 
 
-def build(out, glass=True, plain=False, draco=False, shape_keys=None, armature=None):
+def build(out, glass=True, plain=False, draco=False, shape_keys=None, armature=None, vertex_colors=None):
     """Builds the scene in Blender and exports it to OUT/round_trip.gltf; its path. With
     `shape_keys` the white ball (`plain`) gets two shape keys, "squash" at 0.7 and "lift" at 0:
     "targets" exports them as morph targets with their weights (the exporter's default), "baked"
     exports Blender's own evaluation of the mix instead, a mesh without shape keys. With
     `armature` the ball is bent by a posed two-bone armature (`add_armature`): "posed" exports
     the skin with the pose (`export_rest_position_armature` off: the joints hold the current
-    frame's pose), "baked" Blender's own evaluation of the posed mesh, without armature."""
+    frame's pose), "baked" Blender's own evaluation of the posed mesh, without armature. With
+    `vertex_colors` the ball's faces take four colours (`add_vertex_colors`): "attribute" as a
+    colour attribute its material reads (exported as COLOR_0), "baked" as four materials of
+    those base colours, one a face."""
     import bpy
     import numpy as np
 
@@ -203,6 +206,8 @@ def build(out, glass=True, plain=False, draco=False, shape_keys=None, armature=N
         add_shape_keys(bpy, ball, baked=shape_keys == "baked")
     if armature:
         add_armature(bpy, ball, baked=armature == "baked")
+    if vertex_colors:
+        add_vertex_colors(bpy, ball, baked=vertex_colors == "baked")
     if glass:
         bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=4, radius=GLASS_RADIUS, location=GLASS_AT)
         add(bpy.context.object, glass_material())
@@ -258,6 +263,44 @@ def add_shape_keys(bpy, obj, baked):
         mesh = bpy.data.meshes.new_from_object(evaluated)
         obj.shape_key_clear()
         obj.data = mesh
+
+
+# The ball's face colours (linear RGB), face f taking colour f mod 4.
+FACE_COLORS = [(0.8, 0.1, 0.1), (0.1, 0.7, 0.2), (0.15, 0.2, 0.8), (0.75, 0.7, 0.1)]
+
+
+def add_vertex_colors(bpy, obj, baked):
+    """Face f of `obj` (the ball) coloured FACE_COLORS[f mod 4]: as a face-corner colour attribute
+    that a new material (Lambert, as `material()`) reads into its Base Color, or (`baked`) as
+    four such materials with those base colours, one a face."""
+    def lambert(name):
+        m = bpy.data.materials.new(name)
+        m.use_nodes = True
+        p = m.node_tree.nodes["Principled BSDF"]
+        p.inputs["Metallic"].default_value = 0.0
+        p.inputs["Roughness"].default_value = 1.0
+        p.inputs["Specular IOR Level"].default_value = 0.0
+        return m, p
+
+    mesh = obj.data
+    mesh.materials.clear()
+    if baked:
+        for k, rgb in enumerate(FACE_COLORS):
+            m, p = lambert(f"face colour {k}")
+            p.inputs["Base Color"].default_value = (*rgb, 1.0)
+            mesh.materials.append(m)
+        for face in mesh.polygons:
+            face.material_index = face.index % 4
+        return
+    colors = mesh.color_attributes.new("face colours", "FLOAT_COLOR", "CORNER")
+    for face in mesh.polygons:
+        for corner in face.loop_indices:
+            colors.data[corner].color = (*FACE_COLORS[face.index % 4], 1.0)
+    m, p = lambert("vertex colours")
+    attribute = m.node_tree.nodes.new("ShaderNodeVertexColor")
+    attribute.layer_name = "face colours"
+    m.node_tree.links.new(attribute.outputs["Color"], p.inputs["Base Color"])
+    mesh.materials.append(m)
 
 
 def add_armature(bpy, obj, baked):
