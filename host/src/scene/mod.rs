@@ -17,7 +17,8 @@
 //!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness,
 //!   emissive and normal textures (`textures`; PNG, JPEG, WebP with `EXT_texture_webp`, KTX2
 //!   with `KHR_texture_basisu`), a normal texture in the mesh's `TANGENT`s or MikkTSpace's
-//!   (`tangents`); morph targets at their weights (`morph`); skinned meshes in the pose their
+//!   (`tangents`); vertex colours, `COLOR_0`, times the base colour (`colors`); morph targets
+//!   at their weights (`morph`); skinned meshes in the pose their
 //!   joints hold (`skin`); each primitive read once and placed as often as its node draws it
 //!   (`primitive`: instances of `EXT_mesh_gpu_instancing` in `instancing`). Other material
 //!   extensions and textures change the image but are not modelled: each is named in a printed
