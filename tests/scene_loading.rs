@@ -126,6 +126,53 @@ fn morph_targets_move_the_mesh_by_their_weights() {
     assert!(err.contains("meshes[0].primitives[0]: 2 morph weights for its 1 morph targets"), "{err}");
 }
 
+/// The largest difference in any coordinate between the corners of two scenes' triangles, taken
+/// in order (scenes of the same triangles, in the same order).
+fn largest_vertex_gap(a: &SceneData, b: &SceneData) -> f32 {
+    assert_eq!(a.triangles.len(), b.triangles.len());
+    let mut largest = 0f32;
+    for (t, u) in a.triangles.iter().zip(&b.triangles) {
+        for (p, q) in [(t.v0, u.v0), (t.v1, u.v1), (t.v2, u.v2)] {
+            largest = largest.max((Vec3::from_array(p) - Vec3::from_array(q)).abs().max_element());
+        }
+    }
+    largest
+}
+
+/// The .gltf at `path` (its buffer `round_trip.bin` beside it) loaded with its JSON changed by
+/// `edit` (written to a folder of its own, with the buffer).
+fn load_edited(path: &std::path::Path, edit: impl FnOnce(&mut Value)) -> SceneData {
+    let mut doc: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    edit(&mut doc);
+    let dir = std::env::temp_dir().join(format!(
+        "smlt-edited-{}-{:?}",
+        std::process::id(),
+        std::thread::current().id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(path.with_file_name("round_trip.bin"), dir.join("round_trip.bin")).unwrap();
+    std::fs::write(dir.join("edited.gltf"), doc.to_string()).unwrap();
+    let scene = SceneData::load(&dir.join("edited.gltf")).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    scene
+}
+
+/// The widest angle, in degrees, between a smooth triangle's vertex normals and its face's normal.
+fn widest_normal_lean(scene: &SceneData) -> f32 {
+    let mut widest = 0f32;
+    for (t, n) in scene.triangles.iter().zip(&scene.normals) {
+        if n.n == [0.0; 9] {
+            continue;
+        }
+        let [a, b, c] = [t.v0, t.v1, t.v2].map(Vec3::from_array);
+        let face = (b - a).cross(c - a).normalize();
+        for k in 0..3 {
+            widest = widest.max(Vec3::from_slice(&n.n[3 * k..3 * k + 3]).angle_between(face).to_degrees());
+        }
+    }
+    widest
+}
+
 /// Blender's shape keys as its exporter writes them (`tests/morph/targets`: the round-trip
 /// scene's white ball with "squash" at 0.7 and "lift" at 0, two morph targets with those
 /// weights) load to the geometry of Blender's own evaluation of the same keys
@@ -137,47 +184,20 @@ fn blender_s_shape_keys_load_as_blender_evaluates_them() {
     let baked = SceneData::load(&root.join("baked/round_trip.gltf")).unwrap();
     assert!(targets.warnings.is_empty(), "{:?}", targets.warnings);
     assert_eq!(targets.triangles.len(), baked.triangles.len());
-    let mut largest = 0f32;
-    for (t, b) in targets.triangles.iter().zip(&baked.triangles) {
-        for (p, q) in [(t.v0, b.v0), (t.v1, b.v1), (t.v2, b.v2)] {
-            largest = largest.max((Vec3::from_array(p) - Vec3::from_array(q)).abs().max_element());
-        }
-    }
+    let largest = largest_vertex_gap(&targets, &baked);
     assert!(largest < 1e-5, "vertices {largest} m apart");
     // And not the base sphere: without its weights the file loads the keys' basis.
-    let mut doc: Value =
-        serde_json::from_str(&std::fs::read_to_string(root.join("targets/round_trip.gltf")).unwrap())
-            .unwrap();
-    for mesh in doc["meshes"].as_array_mut().unwrap() {
-        mesh.as_object_mut().unwrap().remove("weights");
-    }
-    let dir = std::env::temp_dir().join(format!("smlt-morph-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::copy(root.join("targets/round_trip.bin"), dir.join("round_trip.bin")).unwrap();
-    std::fs::write(dir.join("basis.gltf"), doc.to_string()).unwrap();
-    let base = SceneData::load(&dir.join("basis.gltf")).unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
-    let moved = targets
-        .triangles
-        .iter()
-        .zip(&base.triangles)
-        .map(|(t, b)| (Vec3::from_array(t.v0) - Vec3::from_array(b.v0)).length())
-        .fold(0f32, f32::max);
+    let base = load_edited(&root.join("targets/round_trip.gltf"), |doc| {
+        for mesh in doc["meshes"].as_array_mut().unwrap() {
+            mesh.as_object_mut().unwrap().remove("weights");
+        }
+    });
+    let moved = largest_vertex_gap(&targets, &base);
     assert!(moved > 0.1, "the squash moves the ball's vertices by {moved} m");
     // The ball is flat-shaded: Blender's normals are its faces'. Its targets' NORMAL
     // displacements, added and normalised again as the spec says, lean off the squashed faces'
     // normals a little (a blend of unit normals is not the blended face's normal).
-    let mut widest = 0f32;
-    for (t, n) in targets.triangles.iter().zip(&targets.normals) {
-        if n.n == [0.0; 9] {
-            continue;
-        }
-        let [a, b, c] = [t.v0, t.v1, t.v2].map(Vec3::from_array);
-        let face = (b - a).cross(c - a).normalize();
-        for k in 0..3 {
-            widest = widest.max(Vec3::from_slice(&n.n[3 * k..3 * k + 3]).angle_between(face).to_degrees());
-        }
-    }
+    let widest = widest_normal_lean(&targets);
     assert!(widest < 5.0, "normals {widest}° off their faces");
     println!("the displaced normals lie within {widest:.2}° of their faces");
 }
@@ -293,48 +313,22 @@ fn blender_s_posed_armature_loads_as_blender_poses_it() {
     let baked = SceneData::load(&root.join("baked/round_trip.gltf")).unwrap();
     assert!(posed.warnings.is_empty(), "{:?}", posed.warnings);
     assert_eq!(posed.triangles.len(), baked.triangles.len());
-    let mut largest = 0f32;
-    for (t, b) in posed.triangles.iter().zip(&baked.triangles) {
-        for (p, q) in [(t.v0, b.v0), (t.v1, b.v1), (t.v2, b.v2)] {
-            largest = largest.max((Vec3::from_array(p) - Vec3::from_array(q)).abs().max_element());
-        }
-    }
+    let largest = largest_vertex_gap(&posed, &baked);
     println!("the posed ball's vertices lie within {largest:e} m of Blender's");
     assert!(largest < 1e-5, "vertices {largest} m apart");
     // And not the bind pose: the file's joints without their pose move the ball back.
-    let mut doc: Value =
-        serde_json::from_str(&std::fs::read_to_string(root.join("posed/round_trip.gltf")).unwrap()).unwrap();
-    for joint in ["upper", "lower"] {
-        let node =
-            doc["nodes"].as_array_mut().unwrap().iter_mut().find(|n| n["name"] == json!(joint)).unwrap();
-        node.as_object_mut().unwrap().remove("rotation");
-    }
-    let dir = std::env::temp_dir().join(format!("smlt-skin-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::copy(root.join("posed/round_trip.bin"), dir.join("round_trip.bin")).unwrap();
-    std::fs::write(dir.join("unposed.gltf"), doc.to_string()).unwrap();
-    let unposed = SceneData::load(&dir.join("unposed.gltf")).unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
-    let moved = posed
-        .triangles
-        .iter()
-        .zip(&unposed.triangles)
-        .map(|(t, u)| (Vec3::from_array(t.v0) - Vec3::from_array(u.v0)).length())
-        .fold(0f32, f32::max);
+    let unposed = load_edited(&root.join("posed/round_trip.gltf"), |doc| {
+        for joint in ["upper", "lower"] {
+            let nodes = doc["nodes"].as_array_mut().unwrap();
+            let node = nodes.iter_mut().find(|n| n["name"] == json!(joint)).unwrap();
+            node.as_object_mut().unwrap().remove("rotation");
+        }
+    });
+    let moved = largest_vertex_gap(&posed, &unposed);
     assert!(moved > 0.2, "the pose moves the ball's top by {moved} m");
     // The skinned normals (the flat faces' normals by each vertex's blended matrix, as the spec
     // says) lean off the bent faces where the blend shears them (measured 10.4°).
-    let mut widest = 0f32;
-    for (t, n) in posed.triangles.iter().zip(&posed.normals) {
-        if n.n == [0.0; 9] {
-            continue;
-        }
-        let [a, b, c] = [t.v0, t.v1, t.v2].map(Vec3::from_array);
-        let face = (b - a).cross(c - a).normalize();
-        for k in 0..3 {
-            widest = widest.max(Vec3::from_slice(&n.n[3 * k..3 * k + 3]).angle_between(face).to_degrees());
-        }
-    }
+    let widest = widest_normal_lean(&posed);
     println!("the skinned normals lie within {widest:.2}° of their faces");
     assert!(widest < 12.0, "normals {widest}° off their faces");
 }
