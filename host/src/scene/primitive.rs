@@ -122,20 +122,15 @@ where
         },
         None => (0..local.len() as u32).collect(),
     };
-    let mut material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
-    // Vertex colours draw a copy of the material that reads them (`colors`).
-    let colors = match colors::read(get.clone(), prim, local.len(), (&at, name))? {
-        Some(colors) => {
-            if colors.translucent && coloured.textures_of(material).alpha_mode != ALPHA_OPAQUE {
-                soup.warnings.push(format!(
-                    "{at}: COLOR_0's alpha is not applied to its material's cut-out (alphaMode MASK or BLEND)"
-                ));
-            }
-            material = coloured.of(material, soup);
-            Some(colors.rgb)
-        }
-        None => None,
-    };
+    let material = prim.material().index().map(|i| i as u32 + 1).unwrap_or(0);
+    let colors = colors::read(get.clone(), prim, local.len(), (&at, name))?;
+    if colors.as_ref().is_some_and(|c| c.translucent)
+        && coloured.textures_of(material).alpha_mode != ALPHA_OPAQUE
+    {
+        soup.warnings.push(format!(
+            "{at}: COLOR_0's alpha is not applied to its material's cut-out (alphaMode MASK or BLEND)"
+        ));
+    }
     let textures = soup.materials[material as usize].textures;
     let texcoords = read_texcoords(get.clone(), prim, soup, material, &at, local.len(), name)?;
     let normals = read_normals(get.clone(), prim, weights, &at, local.len(), name)?;
@@ -173,6 +168,9 @@ where
             rest.len()
         ));
     }
+    // Vertex colours draw a copy of the material that reads them (`colors`; its textures are
+    // the material's, read above).
+    let material = if colors.is_some() { coloured.of(material, soup) } else { material };
     Ok(Some(MeshPrimitive {
         positions: local.iter().map(|p| Vec3::from_array(*p)).collect(),
         triangles: triangles.to_vec(),
@@ -180,7 +178,7 @@ where
         normals,
         texcoords,
         tangents,
-        colors,
+        colors: colors.map(|c| c.rgb),
         at,
     }))
 }
