@@ -1,5 +1,6 @@
 //! One mesh primitive: read once in its mesh's space (morph targets applied, every index checked,
-//! its normals, texture coordinates and a normal texture's tangents beside it), then placed in the
+//! its normals, texture coordinates, vertex colours and a normal texture's tangents beside it,
+//! its material the copy that reads the colours where it has them), then placed in the
 //! world as often as its node draws it — by one matrix (the node's, or each instance's of
 //! `instancing`) or by one matrix a vertex (a skin's, `skin`) — each time its triangles added to
 //! the soup.
