@@ -73,7 +73,7 @@ use shared::normals::TriangleNormals;
 use shared::punctual::PunctualLight;
 use shared::scene::Scene;
 use shared::surface::{MaterialTextures, TriangleColors, TriangleTexcoords};
-use shared::texture::Texture;
+use shared::texture::{Texture, TextureRef};
 use shared::triangle::{Triangle, TriangleEdges};
 
 use std::sync::{Arc, OnceLock};
@@ -390,22 +390,34 @@ impl SceneData {
     }
 
     /// What the scene holds, in words for the render summary: its triangles (how many are
-    /// smooth, how many have vertex tangents for a normal texture) and, where it has any, its
-    /// textures and the memory of their texels.
+    /// smooth, how many have vertex tangents for a normal texture, how many vertex colours) and,
+    /// where it has any, its textures and the memory of their texels.
     pub fn describe_contents(&self) -> String {
         let smooth = self.normals.iter().filter(|n| **n != TriangleNormals::default()).count();
         let tangents = self.tangents.iter().filter(|t| **t != TriangleTangents::default()).count();
+        let entry = |t: &shared::triangle::Triangle| {
+            self.material_textures[self.materials[t.material as usize].textures as usize]
+        };
+        let coloured = self.triangles.iter().filter(|t| entry(t).vertex_colors != 0).count();
         let mut text = format!("{} triangles", self.triangles.len());
-        let counts: Vec<String> =
-            [(smooth, "with smooth normals"), (tangents, "with a normal texture's tangents")]
-                .iter()
-                .filter(|(n, _)| *n > 0)
-                .map(|(n, what)| format!("{n} {what}"))
-                .collect();
+        let counts: Vec<String> = [
+            (smooth, "with smooth normals"),
+            (tangents, "with a normal texture's tangents"),
+            (coloured, "with vertex colours"),
+        ]
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} {what}"))
+        .collect();
         if !counts.is_empty() {
             text += &format!(" ({})", counts.join(", "));
         }
-        let textures = self.material_textures.len().saturating_sub(1);
+        let textures = self
+            .material_textures
+            .iter()
+            .skip(1)
+            .filter(|t| t.slots().iter().any(TextureRef::is_some))
+            .count();
         if textures > 0 {
             text += &format!(
                 ", {} textured material(s) reading {} texture(s) ({:.1} MiB of texels)",
