@@ -572,13 +572,52 @@ fn orthographic_cameras_are_views_smlt_refuses_not_files() {
     }
 }
 
+/// Triangle strips and fans load as the triangles the spec makes of them (the lamp quad's two,
+/// wound the same way); points and lines draw no surface and are skipped with a warning; a mode
+/// glTF does not define is refused by path.
+#[test]
+fn strips_and_fans_are_triangles_and_lines_are_skipped() {
+    let base = one_light_doc();
+    // The quad's corners c0..c3 are vertices 0, 1, 2 and 5 of its two triangles (c0 c1 c2,
+    // c0 c2 c3): the strip c1 c2 c0 c3 and the fan c0 c1 c2 c3 make the same two.
+    let canonical = |scene: &SceneData| {
+        let mut triangles: Vec<[[i64; 3]; 3]> = scene
+            .triangles
+            .iter()
+            .map(|t| {
+                let mut v = [t.v0, t.v1, t.v2].map(|p| p.map(|x| (x * 1e4).round() as i64));
+                let first = (0..3).min_by_key(|&k| v[k]).unwrap();
+                v.rotate_left(first);
+                v
+            })
+            .collect();
+        triangles.sort();
+        triangles
+    };
+    let expected = canonical(&load(&base).unwrap());
+    for (mode, order) in [(5, [1u8, 2, 0, 5]), (6, [0, 1, 2, 5])] {
+        let mut doc = base.clone();
+        let indices = push_accessors(&mut doc, &order, &[(0, 4, 5121, "SCALAR", false, 4)]);
+        doc["meshes"][0]["primitives"][0]["indices"] = json!(indices);
+        doc["meshes"][0]["primitives"][0]["mode"] = json!(mode);
+        let scene = load(&doc).unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        assert_eq!(canonical(&scene), expected, "mode {mode}");
+    }
+    let mut doc = base.clone();
+    let mut lines = doc["meshes"][0]["primitives"][0].clone();
+    lines["mode"] = json!(1); // LINES
+    doc["meshes"][0]["primitives"].as_array_mut().unwrap().push(lines);
+    let scene = load(&doc).unwrap();
+    assert_eq!(canonical(&scene), expected);
+    assert_eq!(scene.warnings, ["meshes[0].primitives[1]: mode Lines draws no surface: not rendered"]);
+    doc["meshes"][0]["primitives"][1]["mode"] = json!(7);
+    let err = load(&doc).unwrap_err().to_string();
+    assert!(err.contains("meshes[0].primitives[1]") && err.contains("mode"), "{err}");
+}
+
 #[test]
 fn unsupported_content_is_an_error_or_a_warning() {
-    let mut doc = one_light_doc();
-    doc["meshes"][0]["primitives"][0]["mode"] = json!(1); // LINES
-    let err = load(&doc).unwrap_err().to_string();
-    assert!(err.contains("primitive mode") && err.contains("TRIANGLES"), "{err}");
-
     let mut doc = one_light_doc();
     doc["materials"][0]["emissiveFactor"] = json!([0, 0, 0]);
     let err = load(&doc).unwrap_err().to_string();

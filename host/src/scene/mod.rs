@@ -2,7 +2,8 @@
 //! compressed wide BVH from obvhs, materials, the light CDF) and the camera.
 //!
 //! What is read, and nothing more (model only what a scene needs):
-//! - triangle meshes (primitive mode TRIANGLES; any other mode is an error) with node
+//! - triangle meshes (TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN: `primitive`; points and lines
+//!   are skipped with a warning) with node
 //!   transforms, matrix or TRS, of the default scene (or the first), and their vertex normals
 //!   (`NORMAL`, the shading normals: `shared::normals`; without them a mesh is flat, as the
 //!   spec says); attributes as floats or as `KHR_mesh_quantization`'s integers (`attributes`),

@@ -6,6 +6,7 @@
 //! the soup.
 
 use glam::{Mat3, Mat4, Vec3, Vec4};
+use gltf::mesh::Mode;
 use shared::cutout::ALPHA_OPAQUE;
 use shared::normal_map::TriangleTangents;
 use shared::normals::TriangleNormals;
@@ -58,9 +59,10 @@ impl Placement {
 }
 
 /// Reads primitive `prim` of mesh `mesh` drawn with morph `weights`, or None for one the spec
-/// says to skip (no `POSITION`; said in `soup.warnings`). Refused by path: a mode other than
-/// triangles, data outside the file (`placeholders`), attributes that cannot be read or are not
-/// finite, an index beyond the vertices.
+/// says to skip or that draws no surface (no `POSITION`; points or lines; said in
+/// `soup.warnings`). Triangle strips and fans are made triangles (`assemble`). Refused by path:
+/// data outside the file (`placeholders`), attributes that cannot be read or are not finite, an
+/// index beyond the vertices.
 pub fn read<'a, 's, F>(
     get: F,
     (mesh, prim): (&gltf::Mesh<'a>, &gltf::Primitive<'a>),
@@ -72,13 +74,12 @@ pub fn read<'a, 's, F>(
 where
     F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
 {
-    if prim.mode() != gltf::mesh::Mode::Triangles {
-        return Err(SceneError::Unsupported {
-            path: name.into(),
-            what: format!("primitive mode {:?} in mesh {} (only TRIANGLES)", prim.mode(), mesh.index()),
-        });
-    }
     let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
+    let mode = prim.mode();
+    if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        soup.warnings.push(format!("{at}: mode {mode:?} draws no surface: not rendered"));
+        return Ok(None);
+    }
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what };
     for accessor in prim.attributes().map(|(_, a)| a).chain(prim.indices()) {
         let views = accessor
@@ -135,7 +136,7 @@ where
     let textures = soup.materials[material as usize].textures;
     let texcoords = read_texcoords(get.clone(), prim, soup, material, &at, local.len(), name)?;
     let normals = read_normals(get.clone(), prim, weights, &at, local.len(), name)?;
-    let (triangles, rest) = indices.as_chunks::<3>();
+    let (triangles, left_over) = assemble(mode, &indices);
     // Every corner a vertex, before anything reads the corners.
     if let Some(&i) = triangles.as_flattened().iter().find(|&&i| i as usize >= local.len()) {
         return Err(malformed(format!("{at}.indices: index {i} is not below the {} vertices", local.len())));
@@ -155,18 +156,17 @@ where
         .filter(TextureRef::is_some);
     let tangents = match (normal_texture, &normals, &texcoords) {
         (Some(r), Some(normals), Some(sets)) => {
-            let mesh = tangents::MeshData { positions: &local, normals, sets, triangles };
+            let mesh = tangents::MeshData { positions: &local, normals, sets, triangles: &triangles };
             Some(tangents::corner_tangents(get, prim, r, &mesh, (&at, name), &mut soup.warnings)?)
         }
         // A mesh without normals is flat: the spec says to ignore its TANGENT, and each
         // triangle keeps its own frame.
         _ => None,
     };
-    if !rest.is_empty() {
+    if left_over > 0 {
         soup.warnings.push(format!(
-            "{at}: {} indices (or vertices) are no multiple of 3: the last {} form no triangle",
-            indices.len(),
-            rest.len()
+            "{at}: {} indices (or vertices) of mode {mode:?}: the last {left_over} form no triangle",
+            indices.len()
         ));
     }
     // Vertex colours draw a copy of the material that reads them (`colors`; its textures are
@@ -174,7 +174,7 @@ where
     let material = if colors.is_some() { coloured.of(material, soup) } else { material };
     Ok(Some(MeshPrimitive {
         positions: local.iter().map(|p| Vec3::from_array(*p)).collect(),
-        triangles: triangles.to_vec(),
+        triangles,
         material,
         normals,
         texcoords,
@@ -285,6 +285,26 @@ impl MeshPrimitive {
             }
         }
         Ok(())
+    }
+}
+
+/// The triangles `indices` make in primitive mode `mode` (TRIANGLES, TRIANGLE_STRIP or
+/// TRIANGLE_FAN), wound as glTF 2.0 ("Meshes", "Topology Types") defines them — strip triangle i
+/// is {v_i, v_(i+1+i%2), v_(i+2−i%2)}, fan triangle i {v_(i+1), v_(i+2), v_0} — and how many
+/// indices are left over (TRIANGLES' beyond a multiple of 3, a strip's or fan's below 3).
+pub fn assemble(mode: Mode, indices: &[u32]) -> (Vec<[u32; 3]>, usize) {
+    let n = indices.len();
+    match mode {
+        Mode::TriangleStrip | Mode::TriangleFan if n < 3 => (Vec::new(), n),
+        Mode::TriangleStrip => {
+            let strip = |i: usize| [indices[i], indices[i + 1 + i % 2], indices[i + 2 - i % 2]];
+            ((0..n - 2).map(strip).collect(), 0)
+        }
+        Mode::TriangleFan => ((0..n - 2).map(|i| [indices[i + 1], indices[i + 2], indices[0]]).collect(), 0),
+        _ => {
+            let (triangles, rest) = indices.as_chunks::<3>();
+            (triangles.to_vec(), rest.len())
+        }
     }
 }
 
@@ -411,4 +431,22 @@ where
         }
     }
     Ok(Some(sets))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_make_the_spec_s_triangles() {
+        let v = [10, 11, 12, 13, 14];
+        // A strip alternates its winding so that every triangle faces the same way.
+        assert_eq!(assemble(Mode::TriangleStrip, &v), (vec![[10, 11, 12], [11, 13, 12], [12, 13, 14]], 0));
+        // A fan turns about its first vertex.
+        assert_eq!(assemble(Mode::TriangleFan, &v), (vec![[11, 12, 10], [12, 13, 10], [13, 14, 10]], 0));
+        // Triangles in threes; the rest left over, as are a strip's or fan's two.
+        assert_eq!(assemble(Mode::Triangles, &v), (vec![[10, 11, 12]], 2));
+        assert_eq!(assemble(Mode::TriangleStrip, &v[..2]), (vec![], 2));
+        assert_eq!(assemble(Mode::TriangleFan, &[]), (vec![], 0));
+    }
 }

@@ -113,8 +113,10 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
         let primitives = mesh.get("primitives").and_then(Value::as_array).map(Vec::as_slice).unwrap_or(&[]);
         for (p, prim) in primitives.iter().enumerate() {
             let at = format!("meshes[{m}].primitives[{p}]");
-            if uint(prim, "mode", &at)?.unwrap_or(4) != 4 {
-                continue; // the reader refuses modes other than TRIANGLES
+            match uint(prim, "mode", &at)?.unwrap_or(4) {
+                0..=3 => continue, // points and lines: the reader skips them
+                4..=6 => {}        // triangles, strips, fans
+                mode => return Err(format!("{at}.mode: {mode} is not a glTF primitive mode")),
             }
             if prim.get("attributes").and_then(|a| a.get("POSITION")).is_none() {
                 continue; // nothing to draw: the reader skips it, as the spec says
