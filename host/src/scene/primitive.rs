@@ -164,8 +164,9 @@ where
         _ => None,
     };
     if left_over > 0 {
+        let why = if mode == Mode::Triangles { "are no multiple of 3" } else { "make no strip or fan" };
         soup.warnings.push(format!(
-            "{at}: {} indices (or vertices) of mode {mode:?}: the last {left_over} form no triangle",
+            "{at}: {} indices (or vertices) {why}: the last {left_over} form no triangle",
             indices.len()
         ));
     }
