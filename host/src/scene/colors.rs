@@ -59,8 +59,8 @@ pub struct VertexColors {
     pub translucent: bool,
 }
 
-/// `prim`'s `COLOR_0` for its `vertices`; None where it has none. Refused by path (`at`): an accessor that cannot
-/// be read or holds fewer values than the vertices, a colour that is not finite or lies outside
+/// `prim`'s `COLOR_0` for its `vertices`; None where it has none. Refused by path (`at`): an
+/// accessor that cannot be read or holds fewer values than the vertices, a colour that is not finite or lies outside
 /// [0, 1] (by more than 10⁻³, a float file's rounding; within it, clamped).
 pub fn read<'a, 's, F>(
     get: F,

@@ -40,20 +40,38 @@ pub struct MeshPrimitive {
     pub colors: Option<Vec<[f32; 3]>>,
 }
 
-/// Where a primitive's vertices go in the world.
-pub enum Placement {
-    /// Every vertex by one matrix: a node's world matrix (times an instance's).
-    Rigid(Mat4),
-    /// Vertex i by matrix i: a skin's joint matrices, blended by the vertex's weights.
-    PerVertex(Vec<Mat4>),
+/// Where a primitive's vertices go in the world: by one matrix, every vertex (a node's world
+/// matrix, times an instance's), or by one a vertex (a skin's blends); with each matrix the inverse
+/// transpose its normals take and its determinant (negative where it mirrors).
+pub struct Placement {
+    matrices: Vec<Mat4>,
+    normals: Vec<Mat3>,
+    determinants: Vec<f32>,
 }
 
 impl Placement {
-    /// The matrix of vertex `i`.
-    fn matrix(&self, i: usize) -> Mat4 {
-        match self {
-            Placement::Rigid(m) => *m,
-            Placement::PerVertex(m) => m[i],
+    /// Every vertex by `matrix`.
+    pub fn rigid(matrix: Mat4) -> Self {
+        Self::of(vec![matrix])
+    }
+
+    /// Vertex i by `matrices[i]`.
+    pub fn per_vertex(matrices: Vec<Mat4>) -> Self {
+        Self::of(matrices)
+    }
+
+    fn of(matrices: Vec<Mat4>) -> Self {
+        let normals = matrices.iter().map(|m| Mat3::from_mat4(*m).inverse().transpose()).collect();
+        let determinants = matrices.iter().map(Mat4::determinant).collect();
+        Self { matrices, normals, determinants }
+    }
+
+    /// The index of vertex `i`'s matrix.
+    fn of_vertex(&self, i: u32) -> usize {
+        if self.matrices.len() == 1 {
+            0
+        } else {
+            i as usize
         }
     }
 }
@@ -187,7 +205,7 @@ where
 
 impl MeshPrimitive {
     /// Adds the primitive's triangles to `soup`, placed by `placement` (one matrix a vertex where
-    /// it is `PerVertex`). Positions transform by the matrices, normals by their inverse
+    /// it is `per_vertex`). Positions transform by the matrices, normals by their inverse
     /// transposes (a matrix without an inverse leaves the primitive flat), tangents by
     /// `tangents::to_world`; a triangle whose corners' matrices mirror (their determinants' sum
     /// is negative) is wound the other way, keeping its normal's sense. `any_textures`: every
@@ -201,7 +219,7 @@ impl MeshPrimitive {
         name: &str,
     ) -> Result<(), SceneError> {
         let at = &self.at;
-        let matrix = |i: u32| placement.matrix(i as usize);
+        let matrix = |i: u32| placement.matrices[placement.of_vertex(i)];
         let positions: Vec<Vec3> =
             self.positions.iter().enumerate().map(|(i, p)| matrix(i as u32).transform_point3(*p)).collect();
         if let Some(i) = positions.iter().position(|p| !(p.abs().max_element() <= MAX_COORDINATE)) {
@@ -213,29 +231,12 @@ impl MeshPrimitive {
                 ),
             });
         }
-        let to_world = |m: Mat4| Mat3::from_mat4(m).inverse().transpose();
-        let normals: Option<Vec<Vec3>> = self.normals.as_ref().and_then(|local| {
-            let normals: Vec<(Vec3, bool)> = match placement {
-                Placement::Rigid(m) => {
-                    let n = to_world(*m);
-                    local.iter().map(|l| ((n * *l).normalize_or_zero(), n.is_finite())).collect()
-                }
-                Placement::PerVertex(ms) => local
-                    .iter()
-                    .zip(ms)
-                    .map(|(l, m)| {
-                        let n = to_world(*m);
-                        ((n * *l).normalize_or_zero(), n.is_finite())
-                    })
-                    .collect(),
-            };
-            normals.iter().all(|(_, finite)| *finite).then(|| normals.iter().map(|(n, _)| *n).collect())
-        });
-        let determinants: Vec<f32> = match placement {
-            Placement::Rigid(m) => vec![m.determinant()],
-            Placement::PerVertex(ms) => ms.iter().map(Mat4::determinant).collect(),
-        };
-        let determinant = |i: u32| determinants[if determinants.len() == 1 { 0 } else { i as usize }];
+        let normals: Option<Vec<Vec3>> =
+            self.normals.as_ref().filter(|_| placement.normals.iter().all(Mat3::is_finite)).map(|local| {
+                let to_world = |i: usize| placement.normals[placement.of_vertex(i as u32)];
+                local.iter().enumerate().map(|(i, n)| (to_world(i) * *n).normalize_or_zero()).collect()
+            });
+        let determinant = |i: u32| placement.determinants[placement.of_vertex(i)];
         for (j, tri) in self.triangles.iter().enumerate() {
             let mut v = tri.map(|i| positions[i as usize]);
             let mut corners = *tri;

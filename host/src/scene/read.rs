@@ -700,10 +700,10 @@ pub fn read_document(source: &Source) -> Result<TriangleSoup, SceneError> {
                 if let Some(joints) = &joints {
                     let vertices = local.positions.len();
                     let matrices = skin::vertex_matrices(get, &prim, joints, vertices, (&local.at, name))?;
-                    local.place(&Placement::PerVertex(matrices), &mut soup, any_textures, name)?;
+                    local.place(&Placement::per_vertex(matrices), &mut soup, any_textures, name)?;
                 }
                 for instance in &instances {
-                    local.place(&Placement::Rigid(world * *instance), &mut soup, any_textures, name)?;
+                    local.place(&Placement::rigid(world * *instance), &mut soup, any_textures, name)?;
                 }
             }
         }
