@@ -92,6 +92,10 @@ pub struct Material {
     /// The coat's GGX roughness α (clearcoatRoughnessFactor²); below [`SMOOTH_ALPHA`] a
     /// mirror.
     pub clearcoat_alpha: f32,
+    /// `KHR_materials_anisotropy`: its anisotropyStrength s times (cos θ, sin θ), θ its
+    /// anisotropyRotation, the direction of the wider roughness in the tangent frame (tangent,
+    /// bitangent); zero: isotropic ([`Material::alphas`]).
+    pub anisotropy: [f32; 2],
 }
 
 /// The roughness α below which a dielectric is smooth: a GGX lobe that narrow is a mirror to
@@ -124,11 +128,30 @@ impl Material {
         MetallicRoughness::new(
             Vec3::from_array(self.albedo),
             self.metallic,
-            self.alpha,
+            self.alphas(),
             self.ior,
             self.specular,
             Vec3::from_array(self.specular_color),
         )
+    }
+
+    /// The GGX roughnesses (αx, αy) of the BRDF's specular lobe and of a rough dielectric,
+    /// along the anisotropy's direction (the local frame's x axis, `Normals::tangent`) and
+    /// across it: `KHR_materials_anisotropy`'s mix(α, 1, s²) and α (α = roughness², s the
+    /// strength); α on both where s is 0. An axis below [`SMOOTH_ALPHA`] across a rough one is
+    /// kept at the limit (a lobe of zero width has no density).
+    // Always on the host: the isotropic test is two compares, and out of line it was a call
+    // at every BRDF evaluation.
+    #[cfg_attr(not(target_arch = "spirv"), inline(always))]
+    #[cfg_attr(target_arch = "spirv", inline)]
+    pub fn alphas(&self) -> Vec2 {
+        if self.anisotropy[0] == 0.0 && self.anisotropy[1] == 0.0 {
+            return Vec2::splat(self.alpha);
+        }
+        let s2 = self.anisotropy[0] * self.anisotropy[0] + self.anisotropy[1] * self.anisotropy[1];
+        let wide = self.alpha + (1.0 - self.alpha) * s2.min(1.0);
+        let across = if wide >= SMOOTH_ALPHA { self.alpha.max(SMOOTH_ALPHA) } else { self.alpha };
+        Vec2::new(wide, across)
     }
 
     /// Whether the material's glTF BRDF is exactly Lambertian (no metal, no dielectric layer):
@@ -157,7 +180,7 @@ impl Material {
     /// its lobes are then not deltas.
     #[inline]
     pub fn is_rough_dielectric(&self) -> bool {
-        self.transmission > 0.0 && self.thin_walled == 0 && self.alpha >= SMOOTH_ALPHA
+        self.transmission > 0.0 && self.thin_walled == 0 && self.alphas().max_element() >= SMOOTH_ALPHA
     }
 }
 
@@ -178,7 +201,9 @@ pub struct BsdfSample {
 }
 
 /// Two unit vectors completing `n` (unit) to an orthonormal basis (Duff et al. 2017).
-#[inline]
+// Always on the host: a call at every BSDF evaluation otherwise.
+#[cfg_attr(not(target_arch = "spirv"), inline(always))]
+#[cfg_attr(target_arch = "spirv", inline)]
 pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
     let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (sign + n.z);
@@ -254,19 +279,50 @@ fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
     2.0 * wo.dot(n) * n - wo
 }
 
-/// A direction in the frame whose z axis is the unit `ns`.
-#[inline]
-fn to_local(ns: Vec3, w: Vec3) -> Vec3 {
-    let (t, b) = orthonormal_basis(ns);
-    Vec3::new(w.dot(t), w.dot(b), w.dot(ns))
+/// The lobes' frame at a surface point: z the unit shading (or coat) normal, x an anisotropic
+/// lobe's direction (`Normals::tangent`) made orthogonal to it, y = z × x; where the direction
+/// is zero (an isotropic material) or lies along z, any x ([`orthonormal_basis`]). Built once a
+/// scattering event, for both its directions.
+#[derive(Clone, Copy, Debug)]
+pub struct LobeFrame {
+    #[allow(missing_docs)] // see the struct
+    pub x: Vec3,
+    #[allow(missing_docs)]
+    pub y: Vec3,
+    #[allow(missing_docs)]
+    pub z: Vec3,
 }
 
-/// The world direction of `v` given in the frame whose z axis is the unit `ns` ([`to_local`]'s
-/// inverse).
-#[inline]
-fn from_local(ns: Vec3, v: Vec3) -> Vec3 {
-    let (t, b) = orthonormal_basis(ns);
-    (t * v.x + b * v.y + ns * v.z).normalize()
+impl LobeFrame {
+    /// The frame about the unit `ns` with x along `tangent` (see the struct).
+    // Always on the host: out of line it cost the path tracer 2 % of its instructions.
+    #[cfg_attr(not(target_arch = "spirv"), inline(always))]
+    #[cfg_attr(target_arch = "spirv", inline)]
+    pub fn new(ns: Vec3, tangent: Vec3) -> Self {
+        if tangent != Vec3::ZERO {
+            let along = tangent - ns * ns.dot(tangent);
+            let len2 = along.length_squared();
+            if len2 > 1e-12 && len2.is_finite() {
+                let x = along / len2.sqrt();
+                return Self { x, y: ns.cross(x), z: ns };
+            }
+        }
+        let (x, y) = orthonormal_basis(ns);
+        Self { x, y, z: ns }
+    }
+
+    /// The world direction `w` in the frame.
+    #[inline]
+    pub fn to_local(&self, w: Vec3) -> Vec3 {
+        Vec3::new(w.dot(self.x), w.dot(self.y), w.dot(self.z))
+    }
+
+    /// The world direction of `v` given in the frame ([`LobeFrame::to_local`]'s inverse),
+    /// normalised.
+    #[inline]
+    pub fn from_local(&self, v: Vec3) -> Vec3 {
+        (self.x * v.x + self.y * v.y + self.z * v.z).normalize()
+    }
 }
 
 /// The probability with which a rough dielectric's sample reflects, for wo at cosine `cos_o`
@@ -315,14 +371,14 @@ fn half_vector(wo: Vec3, wi: Vec3, eta: f32) -> HalfVector {
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
-fn rough_dielectric_eval(alpha: f32, eta: f32, wo: Vec3, wi: Vec3, radiance: bool) -> (f32, bool) {
+fn rough_dielectric_eval(alpha: Vec2, eta: f32, wo: Vec3, wi: Vec3, radiance: bool) -> (f32, bool) {
     let h = half_vector(wo, wi, eta);
     if !h.found {
         return (0.0, false);
     }
     let m = h.m;
     let d = crate::microfacet::ggx_d(alpha, m);
-    let g = crate::microfacet::smith_g(alpha, wo.z, wi.z);
+    let g = crate::microfacet::smith_g(alpha, wo, wi);
     let f = fresnel_dielectric(wo.dot(m), eta);
     if !h.transmits {
         return (d * g * f / (4.0 * wo.z * wi.z).abs(), false);
@@ -340,7 +396,7 @@ fn rough_dielectric_eval(alpha: f32, eta: f32, wo: Vec3, wi: Vec3, radiance: boo
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
-fn rough_dielectric_pdf(alpha: f32, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
+fn rough_dielectric_pdf(alpha: Vec2, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
     let h = half_vector(wo, wi, eta);
     if !h.found {
         return 0.0;
@@ -392,7 +448,8 @@ fn coat_eval(m: &Material, f: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> f3
     if !(above_coat(f, wo) && above_coat(f, wi)) {
         return 0.0;
     }
-    let layer = coat::eval(m.clearcoat_alpha, to_local(nc, wo), to_local(nc, wi));
+    let frame = LobeFrame::new(nc, Vec3::ZERO);
+    let layer = coat::eval(m.clearcoat_alpha, frame.to_local(wo), frame.to_local(wi));
     if !(layer > 0.0) {
         return 0.0;
     }
@@ -420,13 +477,14 @@ fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Ve
     let t = m.transmission;
     if m.is_rough_dielectric() {
         let eta = relative_ior(m, n.geometric, wo);
-        let (f, transmits) =
-            rough_dielectric_eval(m.alpha, eta, to_local(ns, wo), to_local(ns, wi), radiance);
+        let frame = LobeFrame::new(ns, n.tangent);
+        let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
+        let (f, transmits) = rough_dielectric_eval(m.alphas(), eta, wo_l, wi_l, radiance);
         let tint = if transmits { Vec3::from_array(m.albedo) } else { Vec3::ONE };
-        return tint * (t * f) + brdf_eval(m, ns, wo, wi) * (1.0 - t);
+        return tint * (t * f) + brdf_eval(m, n, ns, wo, wi) * (1.0 - t);
     }
     if t > 0.0 {
-        brdf_eval(m, ns, wo, wi) * (1.0 - t)
+        brdf_eval(m, n, ns, wo, wi) * (1.0 - t)
     } else if m.phong_exponent > 0.0 {
         if ns.dot(wi) <= 0.0 {
             return Vec3::ZERO;
@@ -434,29 +492,32 @@ fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Ve
         let e = m.phong_exponent;
         Vec3::from_array(m.albedo) * ((e + 2.0) / (2.0 * PI) * phong_lobe(e, reflect(wo, ns), wi))
     } else {
-        brdf_eval(m, ns, wo, wi)
+        brdf_eval(m, n, ns, wo, wi)
     }
 }
 
-/// The glTF BRDF's f(wo, wi) for wo on the side of the unit normal `ns`.
+/// The glTF BRDF's f(wo, wi) for wo on the side of the unit normal `ns` (`n` for the frame's
+/// tangent).
 // Always: the Lambert test is a few compares, and a call here cost the path tracer 3 %.
 #[inline(always)]
-fn brdf_eval(m: &Material, ns: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
+fn brdf_eval(m: &Material, n: Normals, ns: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
     if m.is_lambertian() {
         return if ns.dot(wi) > 0.0 { Vec3::from_array(m.albedo) / PI } else { Vec3::ZERO };
     }
-    brdf::eval(&m.brdf(), to_local(ns, wo), to_local(ns, wi))
+    let frame = LobeFrame::new(ns, n.tangent);
+    brdf::eval(&m.brdf(), frame.to_local(wo), frame.to_local(wi))
 }
 
 /// The density of the glTF BRDF's sampling of wi for wo on the side of the unit normal `ns`.
 // Always: the Lambert test is a few compares, and a call here cost the path tracer 3 %.
 #[inline(always)]
-fn brdf_pdf(m: &Material, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
+fn brdf_pdf(m: &Material, n: Normals, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
     if m.is_lambertian() {
         let cos_i = ns.dot(wi);
         return if cos_i > 0.0 { cos_i / PI } else { 0.0 };
     }
-    brdf::pdf(&m.brdf(), to_local(ns, wo), to_local(ns, wi))
+    let frame = LobeFrame::new(ns, n.tangent);
+    brdf::pdf(&m.brdf(), frame.to_local(wo), frame.to_local(wi))
 }
 
 /// Solid-angle density with which [`bsdf_sample`] picks `wi` given `wo`, without the delta
@@ -482,7 +543,8 @@ fn coated_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
     let nc = f.coat;
     let p = coat::probability(m.clearcoat, nc.dot(wo));
     let layer = if above_coat(f, wo) && above_coat(f, wi) {
-        coat::pdf(m.clearcoat_alpha, to_local(nc, wo), to_local(nc, wi))
+        let frame = LobeFrame::new(nc, Vec3::ZERO);
+        coat::pdf(m.clearcoat_alpha, frame.to_local(wo), frame.to_local(wi))
     } else {
         0.0
     };
@@ -505,11 +567,13 @@ fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
     let t = m.transmission;
     if m.is_rough_dielectric() {
         let eta = relative_ior(m, n.geometric, wo);
-        let rough = t * rough_dielectric_pdf(m.alpha, eta, to_local(ns, wo), to_local(ns, wi));
-        return rough + (1.0 - t) * brdf_pdf(m, ns, wo, wi);
+        let frame = LobeFrame::new(ns, n.tangent);
+        let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
+        let rough = t * rough_dielectric_pdf(m.alphas(), eta, wo_l, wi_l);
+        return rough + (1.0 - t) * brdf_pdf(m, n, ns, wo, wi);
     }
     if t > 0.0 {
-        (1.0 - t) * brdf_pdf(m, ns, wo, wi)
+        (1.0 - t) * brdf_pdf(m, n, ns, wo, wi)
     } else if m.phong_exponent > 0.0 {
         if ns.dot(wi) <= 0.0 {
             return 0.0;
@@ -517,7 +581,7 @@ fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
         let e = m.phong_exponent;
         (e + 1.0) / (2.0 * PI) * phong_lobe(e, reflect(wo, ns), wi)
     } else {
-        brdf_pdf(m, ns, wo, wi)
+        brdf_pdf(m, n, ns, wo, wi)
     }
 }
 
@@ -599,12 +663,13 @@ fn dielectric_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radi
         let p_r = reflection_probability(ns.dot(wo), eta);
         let reflects = v < p_r;
         let w = if reflects { v / p_r } else { (v - p_r) / (1.0 - p_r) };
+        let frame = LobeFrame::new(ns, n.tangent);
         let ml = crate::microfacet::sample_visible_normal(
-            m.alpha,
-            to_local(ns, wo),
+            m.alphas(),
+            frame.to_local(wo),
             Vec2::new(w.min(1.0 - f32::EPSILON), u.y),
         );
-        let micro = from_local(ns, ml);
+        let micro = frame.from_local(ml);
         let wi = if reflects {
             reflect(wo, micro)
         } else {
@@ -705,11 +770,13 @@ fn coated_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) ->
 fn coat_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool, p: f32) -> BsdfSample {
     let f = n.facing(wo);
     let nc = f.coat;
-    let sampled = if above_coat(f, wo) { coat::sample(m.clearcoat_alpha, to_local(nc, wo), u) } else { None };
+    let frame = LobeFrame::new(nc, Vec3::ZERO);
+    let sampled =
+        if above_coat(f, wo) { coat::sample(m.clearcoat_alpha, frame.to_local(wo), u) } else { None };
     let Some(local) = sampled else {
         return BsdfSample::default();
     };
-    let wi = from_local(nc, local);
+    let wi = frame.from_local(local);
     if !above_coat(f, wi) {
         return BsdfSample::default();
     }
@@ -772,11 +839,12 @@ fn brdf_sample(
     let wi = if m.is_lambertian() {
         cosine_hemisphere(ns, u)
     } else {
-        let s = brdf::sample(&m.brdf(), to_local(ns, wo), u);
+        let frame = LobeFrame::new(ns, n.tangent);
+        let s = brdf::sample(&m.brdf(), frame.to_local(wo), u);
         if !s.found {
             return BsdfSample::default();
         }
-        let wi = from_local(ns, s.wi);
+        let wi = frame.from_local(s.wi);
         if s.delta {
             // As the glass's mirror: f · cos θ_i / pdf is the reflected share over its probability.
             let (pdf, cos_i) = (s.pdf * share, ns.dot(wi));

@@ -89,7 +89,7 @@ pub fn eval(alpha: f32, wo: Vec3, wi: Vec3) -> f32 {
     if !(wo.z > 0.0 && wi.z > 0.0) || alpha < crate::bsdf::SMOOTH_ALPHA {
         return 0.0;
     }
-    crate::microfacet::reflection(alpha, wo, wi)
+    crate::microfacet::reflection(Vec2::splat(alpha), wo, wi)
 }
 
 /// The solid-angle density with which [`sample`] picks `wi` (local) from a rough layer given
@@ -99,7 +99,7 @@ pub fn pdf(alpha: f32, wo: Vec3, wi: Vec3) -> f32 {
     if !(wo.z > 0.0 && wi.z > 0.0) || alpha < crate::bsdf::SMOOTH_ALPHA {
         return 0.0;
     }
-    crate::microfacet::reflection_pdf(alpha, wo, wi)
+    crate::microfacet::reflection_pdf(Vec2::splat(alpha), wo, wi)
 }
 
 /// A direction from the layer for `wo` (local, `wo.z` > 0) with `u` ∈ [0,1)²: the mirror of a
@@ -107,7 +107,7 @@ pub fn pdf(alpha: f32, wo: Vec3, wi: Vec3) -> f32 {
 #[inline]
 pub fn sample(alpha: f32, wo: Vec3, u: Vec2) -> Option<Vec3> {
     if alpha >= crate::bsdf::SMOOTH_ALPHA {
-        return crate::microfacet::sample_reflection(alpha, wo, u);
+        return crate::microfacet::sample_reflection(Vec2::splat(alpha), wo, u);
     }
     let wi = Vec3::new(-wo.x, -wo.y, wo.z);
     if wi.z > 0.0 {

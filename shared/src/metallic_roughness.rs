@@ -7,10 +7,12 @@
 //!   `F0(ior) = ((ior − 1)/(ior + 1))²` (0.04 for glTF's default 1.5);
 //! - `metal = F_m · S`, `F_m = base + (1 − base)(1 − wo·h)⁵`;
 //! - `S = D(h) G(wo, wi) / (4 cos θ_o cos θ_i)`, GGX of α = roughness² with the
-//!   height-correlated Smith G (`crate::microfacet`), h = normalize(wo + wi).
+//!   height-correlated Smith G (`crate::microfacet`), h = normalize(wo + wi); anisotropic
+//!   (`KHR_materials_anisotropy`) where the two roughnesses differ, the frame's x axis then the
+//!   direction of the wider one.
 //!
 //! With `specular` = 0 and `metallic` = 0 the dielectric layer vanishes and `f = base/π`
-//! exactly (Lambert), which is how scenes meant to be Lambertian say so. Where α is below
+//! exactly (Lambert), which is how scenes meant to be Lambertian say so. Where both α are below
 //! [`SMOOTH_ALPHA`](crate::bsdf::SMOOTH_ALPHA) the specular lobe is a mirror (a delta), of
 //! weight `(1 − metallic) F_d + metallic F_m` at h = n.
 //!
@@ -34,8 +36,9 @@ pub struct MetallicRoughness {
     pub base: Vec3,
     /// glTF's metallicFactor, in [0, 1].
     pub metallic: f32,
-    /// The GGX roughness α (roughnessFactor²).
-    pub alpha: f32,
+    /// The GGX roughnesses (αx, αy) along the frame's x and y axes (roughnessFactor² on both,
+    /// but where `KHR_materials_anisotropy` widens x: `crate::bsdf::Material::alphas`).
+    pub alpha: Vec2,
     /// The dielectric layer's reflectance at normal incidence.
     pub f0: Vec3,
     /// The dielectric layer's reflectance at grazing incidence.
@@ -58,10 +61,17 @@ pub fn schlick_weight(c: f32) -> f32 {
 }
 
 impl MetallicRoughness {
-    /// The BRDF of glTF's factors: base colour, metallic, α, ior, and `KHR_materials_specular`'s
-    /// specularFactor and specularColorFactor.
+    /// The BRDF of glTF's factors: base colour, metallic, (αx, αy), ior, and
+    /// `KHR_materials_specular`'s specularFactor and specularColorFactor.
     #[inline]
-    pub fn new(base: Vec3, metallic: f32, alpha: f32, ior: f32, specular: f32, specular_color: Vec3) -> Self {
+    pub fn new(
+        base: Vec3,
+        metallic: f32,
+        alpha: Vec2,
+        ior: f32,
+        specular: f32,
+        specular_color: Vec3,
+    ) -> Self {
         let f0 = (specular_color * f0_from_ior(ior)).min(Vec3::ONE) * specular;
         MetallicRoughness { base, metallic, alpha, f0, f90: specular }
     }
@@ -72,10 +82,16 @@ impl MetallicRoughness {
         self.metallic == 0.0 && self.f90 == 0.0 && self.f0 == Vec3::ZERO
     }
 
-    /// Whether the specular lobe is a mirror (a delta: α below the smooth limit) with weight.
+    /// Whether the specular lobe is a mirror (a delta: both α below the smooth limit).
+    #[inline]
+    pub fn is_smooth(&self) -> bool {
+        self.alpha.max_element() < crate::bsdf::SMOOTH_ALPHA
+    }
+
+    /// Whether the specular lobe is a mirror with weight.
     #[inline]
     pub fn has_mirror(&self) -> bool {
-        self.alpha < crate::bsdf::SMOOTH_ALPHA && !self.is_lambertian()
+        self.is_smooth() && !self.is_lambertian()
     }
 
     /// The dielectric layer's Fresnel factor `F_d` at cosine `c` between wo and h.
@@ -134,7 +150,7 @@ pub fn eval(b: &MetallicRoughness, wo: Vec3, wi: Vec3) -> Vec3 {
     let h = wo + wi;
     let c = if h.length_squared() > 0.0 { clamp(wo.dot(h.normalize()), 0.0, 1.0) } else { 0.0 };
     let diffuse = b.diffuse_weight(c) / PI;
-    if b.alpha < crate::bsdf::SMOOTH_ALPHA {
+    if b.is_smooth() {
         return diffuse;
     }
     diffuse + b.specular_fresnel(c) * crate::microfacet::reflection(b.alpha, wo, wi)
@@ -150,7 +166,7 @@ pub fn pdf(b: &MetallicRoughness, wo: Vec3, wi: Vec3) -> f32 {
     }
     let p = specular_probability(b, wo.z);
     let diffuse = (1.0 - p) * wi.z / PI;
-    if p == 0.0 || b.alpha < crate::bsdf::SMOOTH_ALPHA {
+    if p == 0.0 || b.is_smooth() {
         return diffuse;
     }
     diffuse + p * crate::microfacet::reflection_pdf(b.alpha, wo, wi)
@@ -181,7 +197,7 @@ pub fn sample(b: &MetallicRoughness, wo: Vec3, u: Vec2) -> LocalSample {
     let none = LocalSample { wi: Vec3::Z, f: Vec3::ZERO, pdf: 0.0, delta: false, found: false };
     if u.x < p {
         let v = Vec2::new((u.x / p).min(1.0 - f32::EPSILON), u.y);
-        if b.alpha < crate::bsdf::SMOOTH_ALPHA {
+        if b.is_smooth() {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
             return LocalSample { wi, f: b.specular_fresnel(wo.z), pdf: p, delta: true, found: true };
         }

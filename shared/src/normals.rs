@@ -36,19 +36,23 @@ pub struct Normals {
     /// material's clearcoatNormalTexture only — `KHR_materials_clearcoat` keeps the coat unbent
     /// by the base's normal texture. The shading one where the material has no normal texture.
     pub coat: Vec3,
+    /// The direction of an anisotropic lobe's wider roughness (`KHR_materials_anisotropy`, in
+    /// the surface's tangent frame, `crate::surface::normals_at`), not yet made orthogonal to the
+    /// shading normal; zero for an isotropic material, whose lobes take any frame about it.
+    pub tangent: Vec3,
 }
 
 impl Normals {
     /// A flat surface: the shading and coat normals are the geometric one.
     #[inline]
     pub fn flat(n: Vec3) -> Self {
-        Self { geometric: n, shading: n, coat: n }
+        Self { geometric: n, shading: n, coat: n, tangent: Vec3::ZERO }
     }
 
     /// A surface whose coat, if any, follows the shading normal (no normal texture).
     #[inline]
     pub fn shaded(geometric: Vec3, shading: Vec3) -> Self {
-        Self { geometric, shading, coat: shading }
+        Self { geometric, shading, coat: shading, tangent: Vec3::ZERO }
     }
 
     /// The normals turned to the side of the surface (by the geometric normal) that `w` lies
@@ -58,7 +62,7 @@ impl Normals {
         if self.geometric.dot(w) >= 0.0 {
             self
         } else {
-            Self { geometric: -self.geometric, shading: -self.shading, coat: -self.coat }
+            Self { geometric: -self.geometric, shading: -self.shading, coat: -self.coat, ..self }
         }
     }
 }
@@ -187,7 +191,12 @@ mod tests {
 
     #[test]
     fn facing_turns_the_normals_by_the_geometric_side() {
-        let n = Normals { geometric: Vec3::Z, shading: unit(0.5, 0.0, 1.0), coat: unit(0.0, 0.2, 1.0) };
+        let n = Normals {
+            geometric: Vec3::Z,
+            shading: unit(0.5, 0.0, 1.0),
+            coat: unit(0.0, 0.2, 1.0),
+            tangent: Vec3::ZERO,
+        };
         assert_eq!(n.facing(Vec3::new(0.0, 0.0, 1.0)), n);
         let back = n.facing(Vec3::new(0.9, 0.0, -0.1));
         assert_eq!((back.geometric, back.shading, back.coat), (-n.geometric, -n.shading, -n.coat));

@@ -75,6 +75,9 @@ pub struct MaterialTextures {
     /// 1 where the material's triangles carry `COLOR_0` ([`TriangleColors`]), which multiplies
     /// the base colour; 0 otherwise.
     pub vertex_colors: u32,
+    /// 1 where the material is anisotropic (`Material::anisotropy`), so that [`normals_at`]
+    /// gives its direction; 0 otherwise (isotropic materials without textures read no entry).
+    pub anisotropic: u32,
 }
 
 impl MaterialTextures {
@@ -172,7 +175,8 @@ pub fn material_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Material {
 /// flat triangle's normal as all three where it has no vertex normals, the shading normal bent
 /// by the material's normal texture and the coat's by its clearcoatNormalTexture where it has
 /// them (`crate::normal_map`: in the triangle's vertex tangents where it has them, else in the
-/// texture coordinates' own frame — the normal texture's, else the coat's).
+/// texture coordinates' own frame — the normal texture's, else the coat's); and an anisotropic
+/// material's direction (`Material::anisotropy`) in that frame, as `Normals::tangent`.
 #[inline]
 pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     let tri = scene.triangles[triangle as usize];
@@ -185,25 +189,33 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     // The material's textures index alone (not the whole material, which the callers copy
     // once, for shading), and its textures only where it has some.
     let textures = scene.materials[tri.material as usize].textures;
-    let (normal_texture, coat_texture) = if textures != 0 {
+    let (normal_texture, coat_texture, anisotropic) = if textures != 0 {
         let t = element_or(scene.material_textures, textures as usize, MaterialTextures::default());
-        (t.normal.is_some(), t.clearcoat_normal.is_some())
+        (t.normal.is_some(), t.clearcoat_normal.is_some(), t.anisotropic != 0)
     } else {
-        (false, false)
+        (false, false, false)
     };
-    if flat && !normal_texture && !coat_texture {
+    let framed = normal_texture || coat_texture || anisotropic;
+    if flat && !framed {
         return Normals::flat(ng);
     }
     let b = barycentrics(&tri, p);
     let interpolated = if flat { ng } else { vertex.at(b) };
     let n = if flat { ng } else { shading_normal(interpolated, ng) };
-    if !normal_texture && !coat_texture {
+    if !framed {
         return Normals::shaded(ng, n);
     }
     let t = element_or(scene.material_textures, textures as usize, MaterialTextures::default());
     let coords = element_or(scene.texcoords, triangle as usize, TriangleTexcoords::default());
-    // The frame's coordinates: the normal texture's (its set, its transform), else the coat's.
-    let r = if normal_texture { t.normal } else { t.clearcoat_normal };
+    // The frame's coordinates: the normal texture's (its set, its transform), else the coat's,
+    // else TEXCOORD_0 as it is (an anisotropic material's without either).
+    let r = if normal_texture {
+        t.normal
+    } else if coat_texture {
+        t.clearcoat_normal
+    } else {
+        TextureRef::NONE
+    };
     // The vertex tangents' frame, else the one of the texture coordinates' own.
     let tangents = element_or(scene.tangents, triangle as usize, TriangleTangents::default());
     // The vertex normal as interpolated (MikkTSpace's), but where vertex normals cancel, the
@@ -240,7 +252,15 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
         }
         slot += 1;
     }
-    Normals { geometric: ng, shading, coat }
+    // The anisotropy's direction in the frame (none where the triangle has no frame: its
+    // lobes take any direction about the normal).
+    let tangent = if anisotropic {
+        let d = Vec2::from_array(scene.materials[tri.material as usize].anisotropy).normalize_or_zero();
+        frame.tangent * d.x + frame.bitangent * d.y
+    } else {
+        Vec3::ZERO
+    };
+    Normals { geometric: ng, shading, coat, tangent }
 }
 
 /// The material of triangle `triangle` at barycentric coordinates `b` (see the module doc).

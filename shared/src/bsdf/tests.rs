@@ -442,8 +442,9 @@ fn metallic_and_transmission_mix_as_the_spec_does() {
 }
 
 /// The materials of the shading-normal tests: Lambert, a rough metal (glTF's BRDF), a smooth
-/// and a rough solid glass, a thin glass wall.
-fn shading_cases() -> [Material; 5] {
+/// and a rough solid glass, a thin glass wall, and the metal and the rough glass anisotropic
+/// (`KHR_materials_anisotropy`, strength 0.8 turned 40° from the tangent).
+fn shading_cases() -> [Material; 7] {
     let metal = Material {
         albedo: [0.9, 0.6, 0.2],
         alpha: 0.09,
@@ -454,7 +455,75 @@ fn shading_cases() -> [Material; 5] {
         ..Default::default()
     };
     let thin = Material { thin_walled: 1, ..glass(1.0, false) };
-    [lambert(0.7), metal, glass(1.0, true), rough_glass(0.2, 1.0), thin]
+    let turned = [0.8 * 40f32.to_radians().cos(), 0.8 * 40f32.to_radians().sin()];
+    let brushed = Material { anisotropy: turned, ..metal };
+    let frosted = Material { anisotropy: turned, ..rough_glass(0.2, 1.0) };
+    [lambert(0.7), metal, glass(1.0, true), rough_glass(0.2, 1.0), thin, brushed, frosted]
+}
+
+/// An anisotropic metal: roughness 0.3, strength 0.7 along the tangent.
+fn brushed() -> Material {
+    Material {
+        albedo: [0.9, 0.6, 0.2],
+        alpha: 0.09,
+        metallic: 1.0,
+        specular: 1.0,
+        specular_color: [1.0; 3],
+        ior: 1.5,
+        anisotropy: [0.7, 0.0],
+        ..Default::default()
+    }
+}
+
+/// `KHR_materials_anisotropy`'s roughnesses: mix(α, 1, s²) along the direction, α across it;
+/// none without a strength; a smooth material widened along one axis keeps the other at the
+/// smooth limit, and one widened too little to leave it stays a mirror.
+#[test]
+fn anisotropy_widens_the_roughness_along_its_direction() {
+    let m = brushed();
+    let a = m.alphas();
+    assert!((a.x - (0.09 + 0.91 * 0.49)).abs() < 1e-6 && a.y == 0.09, "{a}");
+    // The rotation does not change the roughnesses, only their direction.
+    let turned = Material { anisotropy: [0.7 * 0.6, 0.7 * 0.8], ..m };
+    assert!((turned.alphas() - a).abs().max_element() < 1e-6);
+    assert_eq!(Material { anisotropy: [0.0; 2], ..m }.alphas(), Vec2::splat(0.09));
+    let mirror = Material { alpha: 0.0, ..m };
+    assert!((mirror.alphas() - Vec2::new(0.49, SMOOTH_ALPHA)).abs().max_element() < 1e-6);
+    assert!(!mirror.has_delta_lobe());
+    let barely = Material { alpha: 0.0, anisotropy: [0.01, 0.0], ..m };
+    assert!(barely.alphas().max_element() < SMOOTH_ALPHA && barely.has_delta_lobe());
+}
+
+/// The lobe turns with the surface's tangent: f with the tangent t equals f with −t, with t
+/// plus any part along the normal, and f with the bitangent at directions turned 90° about the
+/// normal. Reciprocal, and nothing below.
+#[test]
+fn anisotropic_lobes_follow_the_tangent() {
+    let n = Vec3::new(0.3, 0.9, -0.1).normalize();
+    let (t, b) = orthonormal_basis(n);
+    let with = |tangent: Vec3| Normals { tangent, ..Normals::flat(n) };
+    let m = brushed();
+    let quarter = |w: Vec3| {
+        let (x, y, z) = (w.dot(t), w.dot(b), w.dot(n));
+        (b * x - t * y + n * z).normalize()
+    };
+    let mut differs = 0;
+    for i in 0..500 {
+        let wo = cosine_hemisphere(n, u2(i, 90));
+        let wi = cosine_hemisphere(n, u2(i, 91));
+        let f = bsdf_eval(&m, with(t), wo, wi, true);
+        let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() <= 1e-4 * a.max_element().max(1e-3);
+        assert!(close(f, bsdf_eval(&m, with(-t), wo, wi, true)));
+        assert!(close(f, bsdf_eval(&m, with(t * 2.0 + n * 0.7), wo, wi, true)));
+        assert!(close(f, bsdf_eval(&m, with(b), quarter(wo), quarter(wi), true)), "{i}");
+        assert!(close(f, bsdf_eval(&m, with(t), wi, wo, true)), "reciprocal");
+        assert_eq!(bsdf_eval(&m, with(t), wo, -wi, true), Vec3::ZERO);
+        // Not the isotropic lobe, nor the lobe turned by the tangent's quarter.
+        if !close(f, bsdf_eval(&m, with(b), wo, wi, true)) {
+            differs += 1;
+        }
+    }
+    assert!(differs > 400, "{differs} of 500 directions see the tangent");
 }
 
 /// A shading normal tilted 25° from the geometric +Y, and directions on a sphere.
@@ -466,7 +535,9 @@ fn tilted() -> (Normals, impl Fn(u32, u32) -> Vec3) {
         let r = (1.0 - z * z).max(0.0).sqrt();
         Vec3::new(r * (2.0 * PI * u.y).cos(), r * (2.0 * PI * u.y).sin(), z)
     };
-    (Normals::shaded(Vec3::Y, ns), sphere)
+    // A tangent off the normals, for the anisotropic materials' frame.
+    let n = Normals { tangent: Vec3::new(0.3, 0.2, 1.0), ..Normals::shaded(Vec3::Y, ns) };
+    (n, sphere)
 }
 
 /// With a shading normal, the lobes are the flat BSDF's about the shading normal wherever the
@@ -488,7 +559,7 @@ fn shading_normals_turn_the_lobes_and_sides_follow_the_geometry() {
                 agreeing += 1;
                 // The flat BSDF about the shading normal (outward as the geometric one: the
                 // dielectric's inside is the same side).
-                let flat = Normals::flat(n.shading);
+                let flat = Normals { tangent: n.tangent, ..Normals::flat(n.shading) };
                 assert_eq!((f, pdf), (bsdf_eval(&m, flat, wo, wi, true), bsdf_pdf(&m, flat, wo, wi)));
             } else {
                 disagreeing += 1;

@@ -6,7 +6,7 @@ fn brdf(base: f32, metallic: f32, roughness: f32) -> MetallicRoughness {
     MetallicRoughness::new(
         Vec3::new(base, base * 0.8, base * 0.5),
         metallic,
-        roughness * roughness,
+        Vec2::splat(roughness * roughness),
         1.5,
         1.0,
         Vec3::ONE,
@@ -21,6 +21,13 @@ fn cases() -> Vec<(MetallicRoughness, Vec3)> {
             for c in [1.0f32, 0.6, 0.15] {
                 cases.push((brdf(0.8, metallic, roughness), dir(c, 0.3)));
             }
+        }
+    }
+    // Anisotropic (KHR_materials_anisotropy), the wide axis along x and along y.
+    for (alpha, metallic) in [(Vec2::new(0.6, 0.05), 1.0f32), (Vec2::new(0.1, 0.5), 0.0)] {
+        for c in [0.9f32, 0.3] {
+            let b = MetallicRoughness { alpha, ..brdf(0.8, metallic, 0.5) };
+            cases.push((b, dir(c, 0.7)));
         }
     }
     cases
@@ -57,7 +64,7 @@ fn eval_matches_the_spec_at_reference_angles() {
             (dir(0.2, 1.0), dir(0.3, -1.5)),
         ] {
             let f = eval(&b, wo, wi);
-            let r = spec_reference(b.base.as_dvec3().to_array(), metallic as f64, b.alpha as f64, wo, wi);
+            let r = spec_reference(b.base.as_dvec3().to_array(), metallic as f64, b.alpha.x as f64, wo, wi);
             for k in 0..3 {
                 assert!(
                     (f[k] as f64 - r[k]).abs() <= 1e-4 * r[k].abs() + 1e-7,
@@ -71,7 +78,7 @@ fn eval_matches_the_spec_at_reference_angles() {
 /// Without a metal and with specularFactor 0 the BRDF is exactly Lambert, sampled by cosine.
 #[test]
 fn no_specular_layer_is_exactly_lambert() {
-    let b = MetallicRoughness::new(Vec3::splat(0.6), 0.0, 0.25, 1.5, 0.0, Vec3::ONE);
+    let b = MetallicRoughness::new(Vec3::splat(0.6), 0.0, Vec2::splat(0.25), 1.5, 0.0, Vec3::ONE);
     assert!(b.is_lambertian() && !b.has_mirror());
     assert_eq!(specular_probability(&b, 0.7), 0.0);
     for i in 0..100 {
@@ -82,7 +89,8 @@ fn no_specular_layer_is_exactly_lambert() {
         assert!((pdf(&b, wo, s.wi) - s.wi.z / PI).abs() < 1e-7);
     }
     // KHR_materials_specular's colour scales the layer's normal reflectance, capped at 1.
-    let tinted = MetallicRoughness::new(Vec3::ONE, 0.0, 0.25, 1.5, 0.5, Vec3::new(2.0, 1.0, 0.0));
+    let tinted =
+        MetallicRoughness::new(Vec3::ONE, 0.0, Vec2::splat(0.25), 1.5, 0.5, Vec3::new(2.0, 1.0, 0.0));
     assert!((tinted.f0 - Vec3::new(0.04, 0.02, 0.0)).abs().max_element() < 1e-7, "{}", tinted.f0);
     assert_eq!(tinted.f90, 0.5);
     assert!((f0_from_ior(1.5) - 0.04).abs() < 1e-7);
@@ -187,7 +195,14 @@ fn sampling_follows_the_density() {
 fn energy_is_the_specs() {
     for roughness in [0.05f32, 0.3, 0.7, 1.0] {
         for metallic in [0.0f32, 1.0] {
-            let b = MetallicRoughness::new(Vec3::ONE, metallic, roughness * roughness, 1.5, 1.0, Vec3::ONE);
+            let b = MetallicRoughness::new(
+                Vec3::ONE,
+                metallic,
+                Vec2::splat(roughness * roughness),
+                1.5,
+                1.0,
+                Vec3::ONE,
+            );
             for c in [1.0f32, 0.5, 0.2] {
                 let wo = dir(c, 0.0);
                 let trials = 40_000;
@@ -213,7 +228,7 @@ fn energy_is_the_specs() {
                         let cos_i = (i as f64 + 0.5) / nt as f64;
                         for j in 0..np {
                             let wi = dir(cos_i as f32, (2.0 * PI64 * (j as f64 + 0.5) / np as f64) as f32);
-                            let f = spec_reference([1.0; 3], metallic as f64, b.alpha as f64, wo, wi)[0];
+                            let f = spec_reference([1.0; 3], metallic as f64, b.alpha.x as f64, wo, wi)[0];
                             independent += f * cos_i / nt as f64 * 2.0 * PI64 / np as f64;
                         }
                     }

@@ -113,6 +113,7 @@ fn fixture() -> Fixture {
                 clearcoat_normal: TextureRef::NONE,
                 clearcoat_normal_scale: 1.0,
                 vertex_colors: 0,
+                anisotropic: 0,
             },
         ],
         textures: vec![
