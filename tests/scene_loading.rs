@@ -1287,7 +1287,7 @@ fn a_normal_texture_loads_and_bends_the_shading_normal() {
         assert!(scene.texcoords.iter().any(|c| c.uv[..6].iter().any(|&u| u != 0.0)), "TEXCOORD_0 read");
         assert_eq!(scene.tangents.iter().any(|t| t.t != [0.0; 12]), smooth, "tangents computed where smooth");
         let contents = scene.describe_contents();
-        assert_eq!(contents.contains("2 with a normal texture's tangents"), smooth, "{contents}");
+        assert_eq!(contents.contains("2 with vertex tangents"), smooth, "{contents}");
         let n = floor_normal(&scene);
         let expected = (Vec3::X * (0.5 * texel(218.0)) - Vec3::Z * (0.5 * texel(128.0))
             + Vec3::Y * texel(218.0))
@@ -1369,6 +1369,79 @@ fn a_mesh_tangent_sets_the_normal_textures_frame() {
     ints["accessors"][tangent]["componentType"] = json!(5123);
     let err = load(&ints).unwrap_err().to_string();
     assert!(err.contains("meshes[0].primitives[0]: TANGENT must be a VEC4 of floats"), "{err}");
+}
+
+/// [`normal_mapped_doc`]'s floor without its normal texture, anisotropic by `extension`.
+fn anisotropic_doc(smooth: bool, extension: Value) -> Value {
+    let mut doc = normal_mapped_doc(1.0, smooth);
+    let material = &mut doc["materials"][0];
+    material.as_object_mut().unwrap().remove("normalTexture");
+    material["pbrMetallicRoughness"]["metallicFactor"] = json!(1.0);
+    material["pbrMetallicRoughness"]["roughnessFactor"] = json!(0.4);
+    material["extensions"] = json!({ "KHR_materials_anisotropy": extension });
+    doc["extensionsUsed"] = json!(["KHR_materials_anisotropy", "KHR_lights_punctual"]);
+    doc["extensionsRequired"] = json!(["KHR_materials_anisotropy"]);
+    doc
+}
+
+/// `KHR_materials_anisotropy` reads as the spec defines it: the strength times the rotation's
+/// direction, in the tangent frame of the mesh's `TANGENT` or else MikkTSpace's over
+/// `TEXCOORD_0` (x along dp/du, +x here; the bitangent up the image, −dp/dv, as for a normal
+/// texture: −z), which the floor's
+/// `Normals::tangent` carries into the world; a file that requires the extension loads. What
+/// is not modelled (the texture, a frame where the mesh gives none) is said, and values outside
+/// the spec's are refused in one line by path.
+#[test]
+fn anisotropy_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
+    let spec = json!({"anisotropyStrength": 0.6, "anisotropyRotation": 0.5});
+    let scene = load(&anisotropic_doc(true, spec.clone())).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let m = scene.materials[1];
+    let expected = [0.6 * 0.5f32.cos(), 0.6 * 0.5f32.sin()];
+    assert!((m.anisotropy[0] - expected[0]).abs() < 1e-6 && (m.anisotropy[1] - expected[1]).abs() < 1e-6);
+    assert!((m.alphas() - glam::Vec2::new(0.16 + 0.84 * 0.36, 0.16)).abs().max_element() < 1e-6);
+    assert!(scene.tangents.iter().any(|t| t.t != [0.0; 12]), "MikkTSpace's tangents over TEXCOORD_0");
+    let contents = scene.describe_contents();
+    assert!(contents.contains("2 with vertex tangents, 2 anisotropic"), "{contents}");
+    let direction = (Vec3::X * 0.5f32.cos() - Vec3::Z * 0.5f32.sin()).normalize();
+    let n = floor_normal(&scene);
+    assert!((n.tangent.normalize() - direction).length() < 1e-5, "{} against {direction}", n.tangent);
+    // The mesh's TANGENT (+z, w = 1: the bitangent +y × +z = +x) turns the direction with it.
+    let scene = load(&with_tangents(anisotropic_doc(true, spec.clone()), [0.0, 0.0, 1.0, 1.0])).unwrap();
+    let direction = (Vec3::Z * 0.5f32.cos() + Vec3::X * 0.5f32.sin()).normalize();
+    let n = floor_normal(&scene);
+    assert!((n.tangent.normalize() - direction).length() < 1e-5, "{} against {direction}", n.tangent);
+    // No strength, no direction: the isotropic lobe.
+    let scene = load(&anisotropic_doc(true, json!({"anisotropyRotation": 1.0}))).unwrap();
+    assert_eq!((scene.materials[1].anisotropy, floor_normal(&scene).tangent), ([0.0; 2], Vec3::ZERO));
+    // Said, not modelled: a flat mesh's frame, the texture.
+    let flat = load(&anisotropic_doc(false, spec.clone())).unwrap();
+    assert!(
+        flat.warnings.iter().any(|w| w.contains(
+            "meshes[0].primitives[0]: its material's KHR_materials_anisotropy has no tangent frame here"
+        )),
+        "{:?}",
+        flat.warnings
+    );
+    let textured =
+        load(&anisotropic_doc(true, json!({"anisotropyStrength": 0.6, "anisotropyTexture": {"index": 0}})))
+            .unwrap();
+    assert!(
+        textured
+            .warnings
+            .iter()
+            .any(|w| w.contains("KHR_materials_anisotropy's anisotropyTexture is ignored")),
+        "{:?}",
+        textured.warnings
+    );
+    for (extension, said) in [
+        (json!({"anisotropyStrength": 1.5}), "anisotropyStrength: 1.5: must lie in [0, 1]"),
+        (json!({"anisotropyStrength": -0.1}), "anisotropyStrength: -0.1: must lie in [0, 1]"),
+        (json!({"anisotropyRotation": "left"}), "anisotropyRotation: \"left\" is not a finite number"),
+    ] {
+        let err = load(&anisotropic_doc(true, extension)).unwrap_err().to_string();
+        assert!(err.contains(&format!("materials[0].extensions.KHR_materials_anisotropy.{said}")), "{err}");
+    }
 }
 
 /// `KHR_materials_clearcoat` reads as the spec defines it: the intensity and roughness factors

@@ -391,8 +391,9 @@ impl SceneData {
     }
 
     /// What the scene holds, in words for the render summary: its triangles (how many are
-    /// smooth, how many have vertex tangents for a normal texture, how many vertex colours) and,
-    /// where it has any, its textures and the memory of their texels.
+    /// smooth, how many have vertex tangents for a normal texture or an anisotropic lobe, how
+    /// many vertex colours, how many are anisotropic) and, where it has any, its textures and
+    /// the memory of their texels.
     pub fn describe_contents(&self) -> String {
         let smooth = self.normals.iter().filter(|n| **n != TriangleNormals::default()).count();
         let tangents = self.tangents.iter().filter(|t| **t != TriangleTangents::default()).count();
@@ -400,11 +401,13 @@ impl SceneData {
             self.material_textures[self.materials[t.material as usize].textures as usize]
         };
         let coloured = self.triangles.iter().filter(|t| entry(t).vertex_colors != 0).count();
+        let anisotropic = self.triangles.iter().filter(|t| entry(t).anisotropic != 0).count();
         let mut text = format!("{} triangles", self.triangles.len());
         let counts: Vec<String> = [
             (smooth, "with smooth normals"),
-            (tangents, "with a normal texture's tangents"),
+            (tangents, "with vertex tangents"),
             (coloured, "with vertex colours"),
+            (anisotropic, "anisotropic"),
         ]
         .iter()
         .filter(|(n, _)| *n > 0)

@@ -1,5 +1,5 @@
 //! One mesh primitive: read once in its mesh's space (morph targets applied, every index checked,
-//! its normals, texture coordinates, vertex colours and a normal texture's tangents beside it,
+//! its normals, texture coordinates, vertex colours and vertex tangents beside it,
 //! its material the copy that reads the colours where it has them), then placed in the
 //! world as often as its node draws it — by one matrix (the node's, or each instance's of
 //! `instancing`) or by one matrix a vertex (a skin's, `skin`) — each time its triangles added to
@@ -34,7 +34,8 @@ pub struct MeshPrimitive {
     pub normals: Option<Vec<Vec3>>,
     /// Texture coordinate sets (None: the material reads no texture).
     pub texcoords: Option<[Vec<[f32; 2]>; 2]>,
-    /// A normal texture's tangents at each triangle's corners (None: no normal texture).
+    /// The vertex tangents of a normal texture or an anisotropic material at each triangle's
+    /// corners (None: neither).
     pub tangents: Option<Vec<[Vec4; 3]>>,
     /// Vertex colours, linear RGB (`COLOR_0`; None: it has none).
     pub colors: Option<Vec<[f32; 3]>>,
@@ -172,8 +173,23 @@ where
             }
         })
         .filter(TextureRef::is_some);
-    let tangents = match (normal_texture, &normals, &texcoords) {
-        (Some(r), Some(normals), Some(sets)) => {
+    // Else an anisotropic material's (`KHR_materials_anisotropy`): its TANGENT, or
+    // MikkTSpace's over TEXCOORD_0.
+    let anisotropic = soup.materials[material as usize].anisotropy != [0.0; 2];
+    let anisotropy_sets = match (normal_texture, anisotropic) {
+        (None, true) => anisotropy_coordinates(get.clone(), prim, &at, local.len(), name)?,
+        _ => None,
+    };
+    let frame = match (normal_texture, &texcoords, &anisotropy_sets) {
+        (Some(r), Some(sets), _) => Some((r, sets)),
+        (None, _, Some(sets)) => Some((TextureRef::NONE, sets)),
+        _ => None,
+    };
+    let has_tangent = prim.get(&gltf::Semantic::Tangents).is_some();
+    let tangents = match (frame, &normals) {
+        (Some((r, sets)), Some(normals))
+            if normal_texture.is_some() || has_tangent || !sets[0].is_empty() =>
+        {
             let mesh = tangents::MeshData { positions: &local, normals, sets, triangles: &triangles };
             Some(tangents::corner_tangents(get, prim, r, &mesh, (&at, name), &mut soup.warnings)?)
         }
@@ -181,6 +197,12 @@ where
         // triangle keeps its own frame.
         _ => None,
     };
+    if anisotropic && normal_texture.is_none() && tangents.is_none() {
+        soup.warnings.push(format!(
+            "{at}: its material's {} has no tangent frame here (it needs NORMAL, and TANGENT or TEXCOORD_0): its direction is arbitrary",
+            super::read::ANISOTROPY
+        ));
+    }
     if left_over > 0 {
         let why = if mode == Mode::Triangles { "are no multiple of 3" } else { "make no strip or fan" };
         soup.warnings.push(format!(
@@ -372,6 +394,41 @@ where
         }
     }
     Ok(Some(normals))
+}
+
+/// The coordinate sets an anisotropic material's tangent frame is made from where it has no
+/// normal texture: `TEXCOORD_0` where the primitive has it (empty where not), none for a
+/// primitive whose `TANGENT` gives the frame.
+fn anisotropy_coordinates<'a, 's, F>(
+    get: F,
+    prim: &gltf::Primitive<'a>,
+    at: &str,
+    vertices: usize,
+    name: &str,
+) -> Result<Option<[Vec<[f32; 2]>; 2]>, SceneError>
+where
+    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+{
+    let Some(accessor) = prim.get(&gltf::Semantic::TexCoords(0)) else {
+        return Ok(Some([Vec::new(), Vec::new()]));
+    };
+    let coords = match attributes::read(&accessor, get) {
+        Some(c) => c,
+        None if accessor.view().is_none() => vec![[0.0; 2]; accessor.count()],
+        None => {
+            return Err(SceneError::Malformed {
+                path: name.into(),
+                what: format!("{at}: its TEXCOORD_0 accessor cannot be read"),
+            })
+        }
+    };
+    if coords.len() < vertices {
+        return Err(SceneError::Malformed {
+            path: name.into(),
+            what: format!("{at}: TEXCOORD_0 has {} values for {vertices} vertices", coords.len()),
+        });
+    }
+    Ok(Some([coords, Vec::new()]))
 }
 
 /// The texture coordinates a primitive's textured material reads (`TEXCOORD_0` and, where a

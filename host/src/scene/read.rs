@@ -244,8 +244,8 @@ fn ignored_textures(doc: &gltf::Document) -> Vec<String> {
     .collect()
 }
 
-/// A material, its textures entry, and whether it keeps one (it has textures or a cut-out;
-/// `Material::textures` is set by the caller).
+/// A material, its textures entry, and whether it keeps one (it has textures, a cut-out or
+/// anisotropy; `Material::textures` is set by the caller).
 fn read_material(
     m: &gltf::Material,
     store: &mut TextureStore,
@@ -321,7 +321,11 @@ fn read_material(
         clearcoat_normal_scale: coat.normal_scale,
         ..textures
     };
-    let textured = textures.slots().iter().any(TextureRef::is_some) || textures.alpha_mode != ALPHA_OPAQUE;
+    let anisotropy = read_anisotropy(m, &label, &at, warnings, name)?;
+    let textures = MaterialTextures { anisotropic: u32::from(anisotropy != [0.0; 2]), ..textures };
+    let textured = textures.slots().iter().any(TextureRef::is_some)
+        || textures.alpha_mode != ALPHA_OPAQUE
+        || textures.anisotropic != 0;
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}.{what}") };
     let unit = |x: f32| (0.0..=1.0).contains(&x);
     let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
@@ -358,6 +362,7 @@ fn read_material(
     let material = Material {
         albedo: [base[0], base[1], base[2]],
         phong_exponent: phong,
+        anisotropy,
         emission: [e[0] * strength, e[1] * strength, e[2] * strength],
         alpha: roughness * roughness,
         specular,
@@ -369,6 +374,45 @@ fn read_material(
     .with_metallic(metallic, glass.transmission);
     Ok((material, textures, textured))
 }
+
+/// A material's `KHR_materials_anisotropy` as `Material::anisotropy`: anisotropyStrength s
+/// times (cos θ, sin θ), θ its anisotropyRotation (zero without the extension). Its texture is
+/// not read (a warning says so; the factors are used).
+fn read_anisotropy(
+    m: &gltf::Material,
+    label: &str,
+    at: &str,
+    warnings: &mut Vec<String>,
+    name: &str,
+) -> Result<[f32; 2], SceneError> {
+    let Some(ext) = m.extension_value(ANISOTROPY) else {
+        return Ok([0.0; 2]);
+    };
+    let at = format!("{at}.extensions.{ANISOTROPY}");
+    let number = |key: &str| -> Result<f64, SceneError> {
+        match ext.get(key) {
+            None => Ok(0.0),
+            Some(v) => v.as_f64().filter(|x| x.is_finite()).ok_or_else(|| SceneError::Malformed {
+                path: name.into(),
+                what: format!("{at}.{key}: {v} is not a finite number"),
+            }),
+        }
+    };
+    let (strength, rotation) = (number("anisotropyStrength")?, number("anisotropyRotation")?);
+    if !(0.0..=1.0).contains(&strength) {
+        return Err(SceneError::Malformed {
+            path: name.into(),
+            what: format!("{at}.anisotropyStrength: {strength}: must lie in [0, 1]"),
+        });
+    }
+    if ext.get("anisotropyTexture").is_some() {
+        warnings.push(format!("{label}: {ANISOTROPY}'s anisotropyTexture is ignored (its factors are used)"));
+    }
+    Ok([(strength * rotation.cos()) as f32, (strength * rotation.sin()) as f32])
+}
+
+/// The extension of anisotropic roughness.
+pub const ANISOTROPY: &str = "KHR_materials_anisotropy";
 
 /// A material's `KHR_materials_clearcoat` (its numbers checked by `super::validate`).
 struct Clearcoat {
