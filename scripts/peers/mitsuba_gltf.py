@@ -10,6 +10,16 @@ with f0 = min(((ior - 1)/(ior + 1))^2 specularColor, 1) specular and f90 = specu
 below 1e-3 (smlt's smooth limit) the specular lobe is a mirror: a delta of weight
 (1 - metallic) F_d + metallic F_m at H = N. The surface scatters on both sides, as smlt's do.
 
+KHR_materials_anisotropy (optional properties `alpha_t`, `alpha_b` and `direction`, a world
+vector: the direction of alpha_t, which the caller takes from the mesh's tangent frame): V and D
+become the extension's V_GGX_anisotropic and D_GGX_anisotropic,
+
+    V = 0.5 / (N.L |(at T.V, ab B.V, N.V)| + N.V |(at T.L, ab B.L, N.L)|),
+    D = a2 w2^2 / pi,  w2 = a2 / |(ab T.H, at B.H, a2 N.H)|^2,  a2 = at ab,
+
+with T the direction made orthogonal to N and B = N x T, and the visible normals are sampled by
+Mitsuba's anisotropic GGX in that frame.
+
 Sampling is this plugin's own, not smlt's: the specular lobe with probability 1/2 (1 for a
 metal, 0 without a layer) by Mitsuba's GGX visible-normal sampler, else cosine-weighted.
 
@@ -53,14 +63,31 @@ class SmltGltf(mi.BSDF):
         sides = mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
         self.m_components = [mi.BSDFFlags.DiffuseReflection | sides, lobe | sides]
         self.m_flags = mi.BSDFFlags.DiffuseReflection | lobe | sides
-        self.ggx = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, max(self.alpha, SMOOTH_ALPHA), True)
+        self.anisotropic = props.has_property("direction")
+        if self.anisotropic:
+            self.alpha_t, self.alpha_b = float(props["alpha_t"]), float(props["alpha_b"])
+            self.direction = mi.Vector3f(*(float(c) for c in props["direction"]))
+            self.smooth = False
+            self.ggx = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, self.alpha_t, self.alpha_b, True)
+        else:
+            self.ggx = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, max(self.alpha, SMOOTH_ALPHA), True)
 
-    @staticmethod
-    def _local(si, wo):
-        """The two directions on the side `si.wi` lies on (z flipped when it is the back)."""
+    def _turn(self, si):
+        """(cos, sin) of the anisotropy's direction in Mitsuba's local frame at `si` (1, 0 when
+        isotropic): local vectors turned by it have x along T and y along B."""
+        if not self.anisotropic:
+            return mi.Float(1.0), mi.Float(0.0)
+        d = si.to_local(self.direction)
+        r = dr.sqrt(d.x * d.x + d.y * d.y)
+        return d.x / r, d.y / r
+
+    def _local(self, si, wo):
+        """The two directions on the side `si.wi` lies on (z flipped when it is the back), in
+        the frame of the anisotropy's direction."""
         side = dr.select(si.wi.z >= 0.0, 1.0, -1.0)
-        v = mi.Vector3f(si.wi.x, si.wi.y, side * si.wi.z)
-        l = mi.Vector3f(wo.x, wo.y, side * wo.z)
+        c, s = self._turn(si)
+        v = mi.Vector3f(c * si.wi.x + s * si.wi.y, -s * si.wi.x + c * si.wi.y, side * si.wi.z)
+        l = mi.Vector3f(c * wo.x + s * wo.y, -s * wo.x + c * wo.y, side * wo.z)
         return v, l
 
     def _fresnel(self, c):
@@ -73,10 +100,18 @@ class SmltGltf(mi.BSDF):
         """f (without the mirror) for both directions above the surface."""
         h = dr.normalize(v + l)
         f_d, f_m = self._fresnel(dr.abs(dr.dot(v, h)))
-        a2 = self.alpha * self.alpha
         n_v, n_l, n_h = v.z, l.z, h.z
-        vis = 0.5 / (n_l * dr.sqrt(n_v * n_v * (1.0 - a2) + a2) + n_v * dr.sqrt(n_l * n_l * (1.0 - a2) + a2))
-        d = a2 / (math.pi * dr.square(n_h * n_h * (a2 - 1.0) + 1.0))
+        if self.anisotropic:
+            at, ab = self.alpha_t, self.alpha_b
+            a2 = at * ab
+            vis = 0.5 / (n_l * dr.norm(mi.Vector3f(at * v.x, ab * v.y, n_v))
+                         + n_v * dr.norm(mi.Vector3f(at * l.x, ab * l.y, n_l)))
+            w2 = a2 / dr.squared_norm(mi.Vector3f(ab * h.x, at * h.y, a2 * n_h))
+            d = a2 * w2 * w2 / math.pi
+        else:
+            a2 = self.alpha * self.alpha
+            vis = 0.5 / (n_l * dr.sqrt(n_v * n_v * (1.0 - a2) + a2) + n_v * dr.sqrt(n_l * n_l * (1.0 - a2) + a2))
+            d = a2 / (math.pi * dr.square(n_h * n_h * (a2 - 1.0) + 1.0))
         spec = 0.0 if self.smooth else vis * d
         dielectric = (mi.Color3f(1.0) - f_d) * self.base / math.pi + f_d * spec
         return dielectric * (1.0 - self.metallic) + f_m * (spec * self.metallic)
@@ -103,7 +138,8 @@ class SmltGltf(mi.BSDF):
 
     def sample(self, ctx, si, sample1, sample2, active=True):
         side = dr.select(si.wi.z >= 0.0, 1.0, -1.0)
-        v = mi.Vector3f(si.wi.x, si.wi.y, side * si.wi.z)
+        c, s = self._turn(si)
+        v = mi.Vector3f(c * si.wi.x + s * si.wi.y, -s * si.wi.x + c * si.wi.y, side * si.wi.z)
         specular = sample1 < self.p_specular
         if self.smooth:
             m = mi.Normal3f(0.0, 0.0, 1.0)
@@ -114,7 +150,7 @@ class SmltGltf(mi.BSDF):
         l = dr.select(specular, l_spec, l_diff)
         valid = active & (v.z > 0.0) & (l.z > 0.0)
         bs = mi.BSDFSample3f()
-        bs.wo = mi.Vector3f(l.x, l.y, side * l.z)
+        bs.wo = mi.Vector3f(c * l.x - s * l.y, s * l.x + c * l.y, side * l.z)
         bs.eta = 1.0
         if self.smooth:
             f_d, f_m = self._fresnel(v.z)

@@ -27,9 +27,10 @@ def _sun_rotation():
     return [c / s * math.sin(angle / 2) for c in axis] + [math.cos(angle / 2)]
 
 
-def write(path, name, pbr, extensions):
+def write(path, name, pbr, extensions, mapped=False):
     """Writes the plate of material `name` (its pbrMetallicRoughness `pbr` and material
-    `extensions`) to `path`."""
+    `extensions`) to `path`; `mapped`: with NORMAL (+Y) and TEXCOORD_0 (u along +x, v along +z,
+    [0, 1] over the plate), the tangent frame of KHR_materials_anisotropy (FRAME)."""
     data = b"".join(struct.pack("<3f", *v) for v in CORNERS) + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
     material = {"name": name, "pbrMetallicRoughness": pbr}
     if extensions:
@@ -46,8 +47,24 @@ def write(path, name, pbr, extensions):
            "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}],
            "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 1.2, 1.2], "rotation": [-0.38268343, 0, 0, 0.92387953]},
                      {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": _sun_rotation()}]}
+    if mapped:
+        extra = b"".join(struct.pack("<3f", 0, 1, 0) for _ in CORNERS)
+        extra += b"".join(struct.pack("<2f", (x + 8) / 16, (z + 8) / 16) for x, _, z in CORNERS)
+        data += extra
+        doc["buffers"][0] = {"byteLength": len(data),
+                             "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}
+        doc["bufferViews"] += [{"buffer": 0, "byteOffset": 60, "byteLength": 48},
+                               {"buffer": 0, "byteOffset": 108, "byteLength": 32}]
+        doc["accessors"] += [{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC3"},
+                             {"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC2"}]
+        doc["meshes"][0]["primitives"][0]["attributes"].update({"NORMAL": 2, "TEXCOORD_0": 3})
     with open(path, "w") as f:
         json.dump(doc, f)
+
+
+# A mapped plate's tangent frame as glTF defines it: the tangent along dp/du (+x), the bitangent
+# up the texture image, −dp/dv (glTF's v runs down the image), so −z.
+FRAME = ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0))
 
 
 def exact_image(mi, d, sun, w, h):
