@@ -94,7 +94,8 @@ pub struct Material {
     pub clearcoat_alpha: f32,
     /// `KHR_materials_anisotropy`: its anisotropyStrength s times (cos θ, sin θ), θ its
     /// anisotropyRotation, the direction of the wider roughness in the tangent frame (tangent,
-    /// bitangent); zero: isotropic ([`Material::alphas`]).
+    /// bitangent), which `crate::surface::normals_at` turns into `Normals::anisotropy`; zero:
+    /// isotropic ([`Material::alphas`]).
     pub anisotropy: [f32; 2],
 }
 
@@ -136,7 +137,7 @@ impl Material {
     }
 
     /// The GGX roughnesses (αx, αy) of the BRDF's specular lobe and of a rough dielectric,
-    /// along the anisotropy's direction (the local frame's x axis, `Normals::tangent`) and
+    /// along the anisotropy's direction (the local frame's x axis, `Normals::anisotropy`) and
     /// across it: `KHR_materials_anisotropy`'s mix(α, 1, s²) and α (α = roughness², s the
     /// strength); α on both where s is 0. An axis below [`SMOOTH_ALPHA`] across a rough one is
     /// kept at the limit (a lobe of zero width has no density).
@@ -280,9 +281,9 @@ fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
 }
 
 /// The lobes' frame at a surface point: z the unit shading (or coat) normal, x an anisotropic
-/// lobe's direction (`Normals::tangent`) made orthogonal to it, y = z × x; where the direction
-/// is zero (an isotropic material) or lies along z, any x ([`orthonormal_basis`]). Built once a
-/// scattering event, for both its directions.
+/// lobe's direction (`Normals::anisotropy`) made orthogonal to it, y = z × x; where the
+/// direction is zero (an isotropic material) or lies along z, any x ([`orthonormal_basis`]).
+/// Built once an evaluation, density or sample, for both its directions.
 #[derive(Clone, Copy, Debug)]
 pub struct LobeFrame {
     #[allow(missing_docs)] // see the struct
@@ -294,13 +295,14 @@ pub struct LobeFrame {
 }
 
 impl LobeFrame {
-    /// The frame about the unit `ns` with x along `tangent` (see the struct).
+    /// The frame about the unit `ns` with x along `direction` (see the struct; a unit or zero
+    /// direction, so that the cut-off of its part off `ns` is absolute).
     // Always on the host: out of line it cost the path tracer 2 % of its instructions.
     #[cfg_attr(not(target_arch = "spirv"), inline(always))]
     #[cfg_attr(target_arch = "spirv", inline)]
-    pub fn new(ns: Vec3, tangent: Vec3) -> Self {
-        if tangent != Vec3::ZERO {
-            let along = tangent - ns * ns.dot(tangent);
+    pub fn new(ns: Vec3, direction: Vec3) -> Self {
+        if direction != Vec3::ZERO {
+            let along = direction - ns * ns.dot(direction);
             let len2 = along.length_squared();
             if len2 > 1e-12 && len2.is_finite() {
                 let x = along / len2.sqrt();
@@ -477,7 +479,7 @@ fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Ve
     let t = m.transmission;
     if m.is_rough_dielectric() {
         let eta = relative_ior(m, n.geometric, wo);
-        let frame = LobeFrame::new(ns, n.tangent);
+        let frame = LobeFrame::new(ns, n.anisotropy);
         let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
         let (f, transmits) = rough_dielectric_eval(m.alphas(), eta, wo_l, wi_l, radiance);
         let tint = if transmits { Vec3::from_array(m.albedo) } else { Vec3::ONE };
@@ -496,15 +498,15 @@ fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Ve
     }
 }
 
-/// The glTF BRDF's f(wo, wi) for wo on the side of the unit normal `ns` (`n` for the frame's
-/// tangent).
+/// The glTF BRDF's f(wo, wi) for wo on the side of the unit normal `ns` (`n` for the lobe's
+/// anisotropy).
 // Always: the Lambert test is a few compares, and a call here cost the path tracer 3 %.
 #[inline(always)]
 fn brdf_eval(m: &Material, n: Normals, ns: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
     if m.is_lambertian() {
         return if ns.dot(wi) > 0.0 { Vec3::from_array(m.albedo) / PI } else { Vec3::ZERO };
     }
-    let frame = LobeFrame::new(ns, n.tangent);
+    let frame = LobeFrame::new(ns, n.anisotropy);
     brdf::eval(&m.brdf(), frame.to_local(wo), frame.to_local(wi))
 }
 
@@ -516,7 +518,7 @@ fn brdf_pdf(m: &Material, n: Normals, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
         let cos_i = ns.dot(wi);
         return if cos_i > 0.0 { cos_i / PI } else { 0.0 };
     }
-    let frame = LobeFrame::new(ns, n.tangent);
+    let frame = LobeFrame::new(ns, n.anisotropy);
     brdf::pdf(&m.brdf(), frame.to_local(wo), frame.to_local(wi))
 }
 
@@ -567,7 +569,7 @@ fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
     let t = m.transmission;
     if m.is_rough_dielectric() {
         let eta = relative_ior(m, n.geometric, wo);
-        let frame = LobeFrame::new(ns, n.tangent);
+        let frame = LobeFrame::new(ns, n.anisotropy);
         let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
         let rough = t * rough_dielectric_pdf(m.alphas(), eta, wo_l, wi_l);
         return rough + (1.0 - t) * brdf_pdf(m, n, ns, wo, wi);
@@ -663,7 +665,7 @@ fn dielectric_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radi
         let p_r = reflection_probability(ns.dot(wo), eta);
         let reflects = v < p_r;
         let w = if reflects { v / p_r } else { (v - p_r) / (1.0 - p_r) };
-        let frame = LobeFrame::new(ns, n.tangent);
+        let frame = LobeFrame::new(ns, n.anisotropy);
         let ml = crate::microfacet::sample_visible_normal(
             m.alphas(),
             frame.to_local(wo),
@@ -839,7 +841,7 @@ fn brdf_sample(
     let wi = if m.is_lambertian() {
         cosine_hemisphere(ns, u)
     } else {
-        let frame = LobeFrame::new(ns, n.tangent);
+        let frame = LobeFrame::new(ns, n.anisotropy);
         let s = brdf::sample(&m.brdf(), frame.to_local(wo), u);
         if !s.found {
             return BsdfSample::default();

@@ -24,7 +24,7 @@ use spirv_std::num_traits::Float;
 use glam::{Vec2, Vec3};
 
 /// The geometric and shading normals at a surface point, and the clear coat's (unit; the
-/// shading and coat ones on the geometric one's side).
+/// shading and coat ones on the geometric one's side), and an anisotropic lobe's direction.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Normals {
     /// The triangle's normal, by its winding.
@@ -36,23 +36,24 @@ pub struct Normals {
     /// material's clearcoatNormalTexture only — `KHR_materials_clearcoat` keeps the coat unbent
     /// by the base's normal texture. The shading one where the material has no normal texture.
     pub coat: Vec3,
-    /// The direction of an anisotropic lobe's wider roughness (`KHR_materials_anisotropy`, in
-    /// the surface's tangent frame, `crate::surface::normals_at`), not yet made orthogonal to the
-    /// shading normal; zero for an isotropic material, whose lobes take any frame about it.
-    pub tangent: Vec3,
+    /// The world direction of an anisotropic lobe's wider roughness (`KHR_materials_anisotropy`,
+    /// from the surface's tangent frame, `crate::surface::normals_at`), not yet made orthogonal
+    /// to the shading normal (`crate::bsdf::LobeFrame`); zero for an isotropic material, whose
+    /// lobes take any frame about it. Turning the normals to a side keeps it.
+    pub anisotropy: Vec3,
 }
 
 impl Normals {
     /// A flat surface: the shading and coat normals are the geometric one.
     #[inline]
     pub fn flat(n: Vec3) -> Self {
-        Self { geometric: n, shading: n, coat: n, tangent: Vec3::ZERO }
+        Self { geometric: n, shading: n, coat: n, anisotropy: Vec3::ZERO }
     }
 
     /// A surface whose coat, if any, follows the shading normal (no normal texture).
     #[inline]
     pub fn shaded(geometric: Vec3, shading: Vec3) -> Self {
-        Self { geometric, shading, coat: shading, tangent: Vec3::ZERO }
+        Self { geometric, shading, coat: shading, anisotropy: Vec3::ZERO }
     }
 
     /// The normals turned to the side of the surface (by the geometric normal) that `w` lies
@@ -195,10 +196,12 @@ mod tests {
             geometric: Vec3::Z,
             shading: unit(0.5, 0.0, 1.0),
             coat: unit(0.0, 0.2, 1.0),
-            tangent: Vec3::ZERO,
+            anisotropy: Vec3::X,
         };
         assert_eq!(n.facing(Vec3::new(0.0, 0.0, 1.0)), n);
         let back = n.facing(Vec3::new(0.9, 0.0, -0.1));
         assert_eq!((back.geometric, back.shading, back.coat), (-n.geometric, -n.shading, -n.coat));
+        // An anisotropic lobe's direction is the surface's on either side.
+        assert_eq!(back.anisotropy, n.anisotropy);
     }
 }

@@ -176,7 +176,7 @@ pub fn material_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Material {
 /// by the material's normal texture and the coat's by its clearcoatNormalTexture where it has
 /// them (`crate::normal_map`: in the triangle's vertex tangents where it has them, else in the
 /// texture coordinates' own frame — the normal texture's, else the coat's); and an anisotropic
-/// material's direction (`Material::anisotropy`) in that frame, as `Normals::tangent`.
+/// material's direction (`Material::anisotropy`) in that frame, as `Normals::anisotropy`.
 #[inline]
 pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     let tri = scene.triangles[triangle as usize];
@@ -254,13 +254,15 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     }
     // The anisotropy's direction in the frame (none where the triangle has no frame: its
     // lobes take any direction about the normal).
-    let tangent = if anisotropic {
+    // The frame's axes normalised first (MikkTSpace's are not, and their lengths differ), as
+    // the extension's sample viewer mixes them.
+    let direction = if anisotropic {
         let d = Vec2::from_array(scene.materials[tri.material as usize].anisotropy).normalize_or_zero();
-        frame.tangent * d.x + frame.bitangent * d.y
+        frame.tangent.normalize_or_zero() * d.x + frame.bitangent.normalize_or_zero() * d.y
     } else {
         Vec3::ZERO
     };
-    Normals { geometric: ng, shading, coat, tangent }
+    Normals { geometric: ng, shading, coat, anisotropy: direction }
 }
 
 /// The material of triangle `triangle` at barycentric coordinates `b` (see the module doc).

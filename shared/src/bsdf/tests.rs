@@ -273,8 +273,16 @@ fn rough_cases() -> Vec<(f32, Vec3)> {
 #[test]
 fn rough_dielectric_samples_match_eval_and_pdf() {
     let n = Vec3::Y;
-    for (alpha, wo) in rough_cases() {
-        let m = rough_glass(alpha, 1.0);
+    let cases = rough_cases().into_iter().map(|(alpha, wo)| (rough_glass(alpha, 1.0), wo));
+    // Anisotropic (strength 0.8 turned 0.6 rad from an arbitrary frame's x: the lobe's density
+    // does not depend on which).
+    let turned = [0.8 * 0.6f32.cos(), 0.8 * 0.6f32.sin()];
+    let anisotropic = rough_cases()
+        .into_iter()
+        .filter(|(alpha, _)| *alpha == 0.25)
+        .map(|(alpha, wo)| (Material { anisotropy: turned, ..rough_glass(alpha, 1.0) }, wo));
+    for (m, wo) in cases.chain(anisotropic) {
+        let alpha = m.alphas();
         let trials = 20_000;
         let mut ok = 0;
         for i in 0..trials {
@@ -494,6 +502,33 @@ fn anisotropy_widens_the_roughness_along_its_direction() {
     assert!(barely.alphas().max_element() < SMOOTH_ALPHA && barely.has_delta_lobe());
 }
 
+/// The lobes' frame: x the direction made orthogonal to the normal (the wide roughness's axis,
+/// which `alphas` gives first), y = n × x, z the normal; without a direction off the normal, the
+/// isotropic basis.
+#[test]
+fn the_lobe_frame_puts_the_direction_on_x() {
+    let n = Vec3::new(0.3, 0.9, -0.1).normalize();
+    let d = Vec3::new(0.2, 0.5, 1.0).normalize();
+    let f = LobeFrame::new(n, d);
+    let x = (d - n * n.dot(d)).normalize();
+    assert!((f.x - x).length() < 1e-6 && (f.y - n.cross(x)).length() < 1e-6 && f.z == n);
+    assert!((f.to_local(d).x - d.dot(x)).abs() < 1e-6 && f.to_local(d).y.abs() < 1e-6);
+    assert!((f.from_local(f.to_local(d)) - d).length() < 1e-6);
+    let (t, b) = orthonormal_basis(n);
+    for none in [Vec3::ZERO, n, -n * 2.0, Vec3::NAN] {
+        let f = LobeFrame::new(n, none);
+        assert_eq!((f.x, f.y, f.z), (t, b, n), "{none}");
+    }
+    // The wide axis is x: a grazing wo along the direction is masked as by αx alone.
+    let m = brushed();
+    let wo = (x * 0.995 + n * 0.1).normalize();
+    let local = f.to_local(wo);
+    assert!(local.y.abs() < 1e-6 && local.x > 0.9, "{local}");
+    let lambda = |a: Vec2| crate::microfacet::smith_lambda(a, local);
+    let (wide, narrow) = (lambda(Vec2::splat(m.alphas().x)), lambda(Vec2::splat(m.alphas().y)));
+    assert!((lambda(m.alphas()) - wide).abs() <= 1e-4 * wide && wide > 2.0 * narrow, "{wide} {narrow}");
+}
+
 /// The lobe turns with the surface's tangent: f with the tangent t equals f with −t, with t
 /// plus any part along the normal, and f with the bitangent at directions turned 90° about the
 /// normal. Reciprocal, and nothing below.
@@ -501,7 +536,7 @@ fn anisotropy_widens_the_roughness_along_its_direction() {
 fn anisotropic_lobes_follow_the_tangent() {
     let n = Vec3::new(0.3, 0.9, -0.1).normalize();
     let (t, b) = orthonormal_basis(n);
-    let with = |tangent: Vec3| Normals { tangent, ..Normals::flat(n) };
+    let with = |anisotropy: Vec3| Normals { anisotropy, ..Normals::flat(n) };
     let m = brushed();
     let quarter = |w: Vec3| {
         let (x, y, z) = (w.dot(t), w.dot(b), w.dot(n));
@@ -536,7 +571,7 @@ fn tilted() -> (Normals, impl Fn(u32, u32) -> Vec3) {
         Vec3::new(r * (2.0 * PI * u.y).cos(), r * (2.0 * PI * u.y).sin(), z)
     };
     // A tangent off the normals, for the anisotropic materials' frame.
-    let n = Normals { tangent: Vec3::new(0.3, 0.2, 1.0), ..Normals::shaded(Vec3::Y, ns) };
+    let n = Normals { anisotropy: Vec3::new(0.3, 0.2, 1.0), ..Normals::shaded(Vec3::Y, ns) };
     (n, sphere)
 }
 
@@ -559,7 +594,7 @@ fn shading_normals_turn_the_lobes_and_sides_follow_the_geometry() {
                 agreeing += 1;
                 // The flat BSDF about the shading normal (outward as the geometric one: the
                 // dielectric's inside is the same side).
-                let flat = Normals { tangent: n.tangent, ..Normals::flat(n.shading) };
+                let flat = Normals { anisotropy: n.anisotropy, ..Normals::flat(n.shading) };
                 assert_eq!((f, pdf), (bsdf_eval(&m, flat, wo, wi, true), bsdf_pdf(&m, flat, wo, wi)));
             } else {
                 disagreeing += 1;

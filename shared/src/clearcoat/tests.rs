@@ -245,7 +245,7 @@ fn the_coat_covers_transmission() {
 /// geometric one (the extension's coat without its own normal texture).
 fn apart() -> Normals {
     let ns = Vec3::new(25f32.to_radians().sin(), 25f32.to_radians().cos(), 0.0);
-    Normals { geometric: Vec3::Y, shading: ns, coat: Vec3::Y, tangent: Vec3::ZERO }
+    Normals { geometric: Vec3::Y, shading: ns, coat: Vec3::Y, anisotropy: Vec3::ZERO }
 }
 
 /// With the coat's normal apart from the shading normal, the coated material is the base in
