@@ -495,7 +495,8 @@ fn anisotropic_passes_agree_on_device_and_cpu() {
             m["pbrMetallicRoughness"]["metallicFactor"] =
                 serde_json::json!(if material == 3 { 1.0 } else { 0.0 });
             m["pbrMetallicRoughness"]["roughnessFactor"] = serde_json::json!(0.3);
-            m["extensions"]["KHR_materials_anisotropy"] = extension;
+            // Blender wrote specularFactor 0 (Lambert): the extension's whole, the spec's layer.
+            m["extensions"] = serde_json::json!({ "KHR_materials_anisotropy": extension });
         }
         doc["extensionsUsed"].as_array_mut().unwrap().push(serde_json::json!("KHR_materials_anisotropy"));
         let dir = std::env::temp_dir().join(format!("smlt-anisotropic-{}", std::process::id()));
@@ -509,6 +510,8 @@ fn anisotropic_passes_agree_on_device_and_cpu() {
         std::fs::remove_dir_all(&dir).unwrap();
         let scene = scene.expect("the anisotropic ball");
         assert!(scene.tangents.iter().any(|t| t.t != [0.0; 12]), "the floor's and the ball's tangents");
+        let lobes = [0, 3].map(|k| scene.materials[k + 1]);
+        assert!(lobes.iter().all(|m| !m.is_lambertian() && m.alphas().x > m.alphas().y), "{lobes:?}");
         difftest_both_estimators(gpu, &scene);
     }
 }

@@ -1388,9 +1388,9 @@ fn anisotropic_doc(smooth: bool, extension: Value) -> Value {
 /// direction, in the tangent frame of the mesh's `TANGENT` or else MikkTSpace's over
 /// `TEXCOORD_0` (x along dp/du, +x here; the bitangent up the image, −dp/dv, as for a normal
 /// texture: −z), which the floor's
-/// `Normals::tangent` carries into the world; a file that requires the extension loads. What
-/// is not modelled (the texture, a frame where the mesh gives none) is said, and values outside
-/// the spec's are refused in one line by path.
+/// `Normals::anisotropy` carries into the world; a flat mesh's triangles' own frames; a file
+/// that requires the extension loads. What is not modelled (the texture, a frame where the mesh
+/// gives none) is said, and values outside the spec's are refused in one line by path.
 #[test]
 fn anisotropy_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     let spec = json!({"anisotropyStrength": 0.6, "anisotropyRotation": 0.5});
@@ -1405,24 +1405,36 @@ fn anisotropy_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     assert!(contents.contains("2 with vertex tangents, 2 anisotropic"), "{contents}");
     let direction = (Vec3::X * 0.5f32.cos() - Vec3::Z * 0.5f32.sin()).normalize();
     let n = floor_normal(&scene);
-    assert!((n.tangent.normalize() - direction).length() < 1e-5, "{} against {direction}", n.tangent);
+    assert!((n.anisotropy.normalize() - direction).length() < 1e-5, "{} against {direction}", n.anisotropy);
     // The mesh's TANGENT (+z, w = 1: the bitangent +y × +z = +x) turns the direction with it.
     let scene = load(&with_tangents(anisotropic_doc(true, spec.clone()), [0.0, 0.0, 1.0, 1.0])).unwrap();
     let direction = (Vec3::Z * 0.5f32.cos() + Vec3::X * 0.5f32.sin()).normalize();
     let n = floor_normal(&scene);
-    assert!((n.tangent.normalize() - direction).length() < 1e-5, "{} against {direction}", n.tangent);
+    assert!((n.anisotropy.normalize() - direction).length() < 1e-5, "{} against {direction}", n.anisotropy);
     // No strength, no direction: the isotropic lobe.
     let scene = load(&anisotropic_doc(true, json!({"anisotropyRotation": 1.0}))).unwrap();
-    assert_eq!((scene.materials[1].anisotropy, floor_normal(&scene).tangent), ([0.0; 2], Vec3::ZERO));
-    // Said, not modelled: a flat mesh's frame, the texture.
+    assert_eq!((scene.materials[1].anisotropy, floor_normal(&scene).anisotropy), ([0.0; 2], Vec3::ZERO));
+    // A flat mesh (no NORMAL, so no vertex tangents): each triangle's own frame, dp/du and
+    // −dp/dv, which on this floor is the same.
     let flat = load(&anisotropic_doc(false, spec.clone())).unwrap();
     assert!(
-        flat.warnings.iter().any(|w| w.contains(
-            "meshes[0].primitives[0]: its material's KHR_materials_anisotropy has no tangent frame here"
-        )),
+        flat.warnings.is_empty() && flat.tangents.iter().all(|t| t.t == [0.0; 12]),
         "{:?}",
         flat.warnings
     );
+    let direction = (Vec3::X * 0.5f32.cos() - Vec3::Z * 0.5f32.sin()).normalize();
+    let n = floor_normal(&flat);
+    assert!((n.anisotropy.normalize() - direction).length() < 1e-5, "{} against {direction}", n.anisotropy);
+    // Without TEXCOORD_0 the TANGENT alone gives the frame; without either, a warning.
+    let mut bare = anisotropic_doc(true, spec.clone());
+    bare["meshes"][0]["primitives"][0]["attributes"].as_object_mut().unwrap().remove("TEXCOORD_0");
+    let tangent_only = load(&with_tangents(bare.clone(), [0.0, 0.0, 1.0, 1.0])).unwrap();
+    assert!(tangent_only.warnings.is_empty(), "{:?}", tangent_only.warnings);
+    let direction = (Vec3::Z * 0.5f32.cos() + Vec3::X * 0.5f32.sin()).normalize();
+    assert!((floor_normal(&tangent_only).anisotropy.normalize() - direction).length() < 1e-5);
+    let frameless = load(&bare).unwrap();
+    let said = "meshes[0].primitives[0]: its material's KHR_materials_anisotropy has no tangent frame here";
+    assert!(frameless.warnings.iter().any(|w| w.contains(said)), "{:?}", frameless.warnings);
     let textured =
         load(&anisotropic_doc(true, json!({"anisotropyStrength": 0.6, "anisotropyTexture": {"index": 0}})))
             .unwrap();
@@ -1442,6 +1454,8 @@ fn anisotropy_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
         let err = load(&anisotropic_doc(true, extension)).unwrap_err().to_string();
         assert!(err.contains(&format!("materials[0].extensions.KHR_materials_anisotropy.{said}")), "{err}");
     }
+    let err = load(&anisotropic_doc(true, json!(5))).unwrap_err().to_string();
+    assert!(err.contains("materials[0].extensions.KHR_materials_anisotropy: 5 is not an object"), "{err}");
 }
 
 /// `KHR_materials_clearcoat` reads as the spec defines it: the intensity and roughness factors

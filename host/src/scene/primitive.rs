@@ -160,46 +160,33 @@ where
     if let Some(&i) = triangles.as_flattened().iter().find(|&&i| i as usize >= local.len()) {
         return Err(malformed(format!("{at}.indices: index {i} is not below the {} vertices", local.len())));
     }
-    // A normal texture's vertex tangents, each triangle's corners in the mesh's space: in the
-    // coordinates of the normal texture, else of the coat's (as `shared::surface::normals_at`
+    // The vertex tangents of a normal texture or an anisotropic material, each triangle's
+    // corners in the mesh's space: its TANGENT, or MikkTSpace's in the coordinates of the
+    // normal texture, else of the coat's, else TEXCOORD_0 (as `shared::surface::normals_at`
     // takes them).
-    let normal_texture = (textures != 0)
-        .then(|| {
-            let t = &soup.material_textures[textures as usize];
-            if t.normal.is_some() {
-                t.normal
-            } else {
-                t.clearcoat_normal
-            }
-        })
-        .filter(TextureRef::is_some);
-    // Else an anisotropic material's (`KHR_materials_anisotropy`): its TANGENT, or
-    // MikkTSpace's over TEXCOORD_0.
-    let anisotropic = soup.materials[material as usize].anisotropy != [0.0; 2];
-    let anisotropy_sets = match (normal_texture, anisotropic) {
-        (None, true) => anisotropy_coordinates(get.clone(), prim, &at, local.len(), name)?,
-        _ => None,
-    };
-    let frame = match (normal_texture, &texcoords, &anisotropy_sets) {
-        (Some(r), Some(sets), _) => Some((r, sets)),
-        (None, _, Some(sets)) => Some((TextureRef::NONE, sets)),
-        _ => None,
+    let t = &soup.material_textures[textures as usize];
+    let frame = if t.normal.is_some() {
+        Some(t.normal)
+    } else if t.clearcoat_normal.is_some() {
+        Some(t.clearcoat_normal)
+    } else {
+        (t.anisotropic != 0).then_some(TextureRef::NONE)
     };
     let has_tangent = prim.get(&gltf::Semantic::Tangents).is_some();
-    let tangents = match (frame, &normals) {
-        (Some((r, sets)), Some(normals))
-            if normal_texture.is_some() || has_tangent || !sets[0].is_empty() =>
-        {
+    let tangents = match (frame, &normals, &texcoords) {
+        // An anisotropic material's TEXCOORD_0 may be missing where its TANGENT is not.
+        (Some(r), Some(normals), Some(sets)) if r.is_some() || has_tangent || !sets[0].is_empty() => {
             let mesh = tangents::MeshData { positions: &local, normals, sets, triangles: &triangles };
             Some(tangents::corner_tangents(get, prim, r, &mesh, (&at, name), &mut soup.warnings)?)
         }
         // A mesh without normals is flat: the spec says to ignore its TANGENT, and each
-        // triangle keeps its own frame.
+        // triangle keeps its own frame (dp/du, −dp/dv).
         _ => None,
     };
-    if anisotropic && normal_texture.is_none() && tangents.is_none() {
+    let coordinates = texcoords.as_ref().is_some_and(|sets| !sets[0].is_empty());
+    if frame == Some(TextureRef::NONE) && tangents.is_none() && !coordinates {
         soup.warnings.push(format!(
-            "{at}: its material's {} has no tangent frame here (it needs NORMAL, and TANGENT or TEXCOORD_0): its direction is arbitrary",
+            "{at}: its material's {} has no tangent frame here (it needs TEXCOORD_0, or TANGENT and NORMAL): its direction is arbitrary",
             super::read::ANISOTROPY
         ));
     }
@@ -396,45 +383,11 @@ where
     Ok(Some(normals))
 }
 
-/// The coordinate sets an anisotropic material's tangent frame is made from where it has no
-/// normal texture: `TEXCOORD_0` where the primitive has it (empty where not), none for a
-/// primitive whose `TANGENT` gives the frame.
-fn anisotropy_coordinates<'a, 's, F>(
-    get: F,
-    prim: &gltf::Primitive<'a>,
-    at: &str,
-    vertices: usize,
-    name: &str,
-) -> Result<Option<[Vec<[f32; 2]>; 2]>, SceneError>
-where
-    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
-{
-    let Some(accessor) = prim.get(&gltf::Semantic::TexCoords(0)) else {
-        return Ok(Some([Vec::new(), Vec::new()]));
-    };
-    let coords = match attributes::read(&accessor, get) {
-        Some(c) => c,
-        None if accessor.view().is_none() => vec![[0.0; 2]; accessor.count()],
-        None => {
-            return Err(SceneError::Malformed {
-                path: name.into(),
-                what: format!("{at}: its TEXCOORD_0 accessor cannot be read"),
-            })
-        }
-    };
-    if coords.len() < vertices {
-        return Err(SceneError::Malformed {
-            path: name.into(),
-            what: format!("{at}: TEXCOORD_0 has {} values for {vertices} vertices", coords.len()),
-        });
-    }
-    Ok(Some([coords, Vec::new()]))
-}
-
 /// The texture coordinates a primitive's textured material reads (`TEXCOORD_0` and, where a
 /// texture of the material uses it, `TEXCOORD_1`; a set it does not use is zeros), or None for
-/// a material without textures. A set the material uses and the primitive lacks is refused, as
-/// the Khronos validator does.
+/// a material without textures. A set a texture uses and the primitive lacks is refused, as
+/// the Khronos validator does; an anisotropic material's `TEXCOORD_0`, its tangent frame's
+/// where the primitive has no `TANGENT`, is read where the primitive has it (else empty).
 fn read_texcoords<'a, 's, F>(
     get: F,
     prim: &gltf::Primitive<'a>,
@@ -453,16 +406,21 @@ where
     }
     let t = &soup.material_textures[textures as usize];
     // A textures entry for a cut-out or vertex colours alone reads no coordinates.
-    if !t.slots().iter().any(TextureRef::is_some) {
+    if !t.slots().iter().any(TextureRef::is_some) && t.anisotropic == 0 {
         return Ok(None);
     }
     let mut sets = [Vec::new(), Vec::new()];
     for (set, coords) in sets.iter_mut().enumerate() {
         let uses = t.slots().iter().any(|r| r.is_some() && r.tex_coord == set as u32);
-        if !uses {
+        // An anisotropic material's tangent frame is TEXCOORD_0's where the primitive has it.
+        let frames = set == 0 && t.anisotropic != 0;
+        if !uses && !frames {
             continue;
         }
         let Some(accessor) = prim.get(&gltf::Semantic::TexCoords(set as u32)) else {
+            if !uses {
+                continue;
+            }
             return Err(SceneError::Malformed {
                 path: name.into(),
                 what: format!(

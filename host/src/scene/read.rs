@@ -389,6 +389,12 @@ fn read_anisotropy(
         return Ok([0.0; 2]);
     };
     let at = format!("{at}.extensions.{ANISOTROPY}");
+    if !ext.is_object() {
+        return Err(SceneError::Malformed {
+            path: name.into(),
+            what: format!("{at}: {ext} is not an object"),
+        });
+    }
     let number = |key: &str| -> Result<f64, SceneError> {
         match ext.get(key) {
             None => Ok(0.0),

@@ -71,7 +71,8 @@ pub struct MeshData<'a> {
     pub triangles: &'a [[u32; 3]],
 }
 
-/// The vertex tangents of a primitive whose material has the normal texture `r`, at each
+/// The vertex tangents of a primitive whose material has the normal texture `r` (or, for an
+/// anisotropic material without one, `TextureRef::NONE`: `TEXCOORD_0` as it is), at each
 /// triangle's corners in the mesh's space: its `TANGENT` where it has one, else MikkTSpace's
 /// over its positions, normals and `r`'s coordinates.
 /// (`at`, `name`: the primitive's glTF path and the file's, for errors; a primitive whose
@@ -95,7 +96,7 @@ where
     let fan = largest_fan(&positions, mesh.triangles);
     if fan > MAX_FAN {
         warnings.push(format!(
-            "{at}: {fan} triangle corners share one position, more than MikkTSpace is given ({MAX_FAN}): its normal texture is read in each triangle's own frame"
+            "{at}: {fan} triangle corners share one position, more than MikkTSpace is given ({MAX_FAN}): its tangent frame is each triangle's own"
         ));
         return Ok(vec![[Vec4::ZERO; 3]; mesh.triangles.len()]);
     }
