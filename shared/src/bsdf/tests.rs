@@ -453,15 +453,7 @@ fn metallic_and_transmission_mix_as_the_spec_does() {
 /// and a rough solid glass, a thin glass wall, and the metal and the rough glass anisotropic
 /// (`KHR_materials_anisotropy`, strength 0.8 turned 40° from the tangent).
 fn shading_cases() -> [Material; 7] {
-    let metal = Material {
-        albedo: [0.9, 0.6, 0.2],
-        alpha: 0.09,
-        metallic: 1.0,
-        specular: 1.0,
-        specular_color: [1.0; 3],
-        ior: 1.5,
-        ..Default::default()
-    };
+    let metal = metal();
     let thin = Material { thin_walled: 1, ..glass(1.0, false) };
     let turned = [0.8 * 40f32.to_radians().cos(), 0.8 * 40f32.to_radians().sin()];
     let brushed = Material { anisotropy: turned, ..metal };
@@ -469,8 +461,8 @@ fn shading_cases() -> [Material; 7] {
     [lambert(0.7), metal, glass(1.0, true), rough_glass(0.2, 1.0), thin, brushed, frosted]
 }
 
-/// An anisotropic metal: roughness 0.3, strength 0.7 along the tangent.
-fn brushed() -> Material {
+/// A rough metal (glTF's BRDF, roughness 0.3).
+fn metal() -> Material {
     Material {
         albedo: [0.9, 0.6, 0.2],
         alpha: 0.09,
@@ -478,9 +470,13 @@ fn brushed() -> Material {
         specular: 1.0,
         specular_color: [1.0; 3],
         ior: 1.5,
-        anisotropy: [0.7, 0.0],
         ..Default::default()
     }
+}
+
+/// [`metal`] anisotropic: strength 0.7 along the tangent.
+fn brushed() -> Material {
+    Material { anisotropy: [0.7, 0.0], ..metal() }
 }
 
 /// `KHR_materials_anisotropy`'s roughnesses: mix(α, 1, s²) along the direction, α across it;
