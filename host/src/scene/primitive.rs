@@ -164,7 +164,7 @@ where
     // corners in the mesh's space: its TANGENT, or MikkTSpace's in the coordinates of the
     // normal texture, else of the coat's, else TEXCOORD_0 (as `shared::surface::normals_at`
     // takes them).
-    let t = &soup.material_textures[textures as usize];
+    let t = soup.material_textures.get(textures as usize).copied().unwrap_or_default();
     let frame = if t.normal.is_some() {
         Some(t.normal)
     } else if t.clearcoat_normal.is_some() {
