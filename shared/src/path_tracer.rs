@@ -378,56 +378,50 @@ impl PathState {
                     wi,
                 }
             };
-        if is_environment(ls.light) {
-            // A direction towards the environment: a shadow ray out of the scene's bounds.
-            let wi = -ls.n;
-            let f = bsdf_eval(&m, normals, wo, wi, true);
-            if ls.emission.max_element() > 0.0 && f.max_element() > 0.0 && ls.pdf_area > 0.0 {
-                let from = spawn(p, n, wi, settings.epsilon);
-                let reach = (scene.environment.beyond(from, wi) - from).length();
-                return shadow(from, wi, reach, self.beta * f * ls.emission, wi, ls.pdf_area, true);
-            }
+        // The light's direction, what arrives along it, its density (a delta light's: the
+        // pick) and where the shadow ray ends: out of the scene's bounds towards the
+        // environment, else at `target`.
+        let (wi, arriving, pdf, weighted, target, beyond) = if is_environment(ls.light) {
+            (-ls.n, ls.emission, ls.pdf_area, true, Vec3::ZERO, true)
         } else if is_punctual(ls.light) {
             // A delta light: no BSDF sample finds it, so the light sample takes it all.
             let inc = scene.punctual[punctual_index(ls.light) as usize].incident(p);
-            let f = bsdf_eval(&m, normals, wo, inc.wi, true);
-            if inc.radiance.max_element() > 0.0 && f.max_element() > 0.0 && ls.pick > 0.0 {
-                let from = spawn(p, n, inc.wi, settings.epsilon);
-                let span = inc.from - from;
-                let len = span.length();
-                if len > 0.0 {
-                    return shadow(
-                        from,
-                        span / len,
-                        len,
-                        self.beta * f * inc.radiance,
-                        inc.wi,
-                        ls.pick,
-                        false,
-                    );
-                }
-            }
+            (inc.wi, inc.radiance, ls.pick, false, inc.from, false)
         } else {
             let (q, nq) = (ls.p, ls.n);
             let to_light = q - p;
             let dist2 = to_light.length_squared();
-            if dist2 > 0.0 && ls.pdf_area > 0.0 {
-                let dist = dist2.sqrt();
-                let wl = to_light / dist;
-                let le = emitted(ls.emission, nq, -wl);
-                let f = bsdf_eval(&m, normals, wo, wl, true);
-                let cos_l = nq.dot(wl).abs();
-                if le.max_element() > 0.0 && f.max_element() > 0.0 && cos_l > 0.0 {
-                    let pdf_light = ls.pdf_area * dist2 / cos_l;
-                    let from = spawn(p, n, wl, settings.epsilon);
-                    let target = spawn(q, nq, -wl, settings.epsilon);
-                    let span = target - from;
-                    let len = span.length();
-                    return shadow(from, span / len, len, self.beta * f * le, wl, pdf_light, true);
-                }
+            if !(dist2 > 0.0 && ls.pdf_area > 0.0) {
+                return ShadowRay::none();
             }
+            let wl = to_light / dist2.sqrt();
+            let cos_l = nq.dot(wl).abs();
+            if !(cos_l > 0.0) {
+                return ShadowRay::none();
+            }
+            let target = spawn(q, nq, -wl, settings.epsilon);
+            (wl, emitted(ls.emission, nq, -wl), ls.pdf_area * dist2 / cos_l, true, target, false)
+        };
+        if !(arriving.max_element() > 0.0 && pdf > 0.0) {
+            return ShadowRay::none();
         }
-        ShadowRay::none()
+        // One evaluation for every kind of light: each call is a copy of the material code in
+        // the device's compiled stage.
+        let f = bsdf_eval(&m, normals, wo, wi, true);
+        if !(f.max_element() > 0.0) {
+            return ShadowRay::none();
+        }
+        let from = spawn(p, n, wi, settings.epsilon);
+        if beyond {
+            let reach = (scene.environment.beyond(from, wi) - from).length();
+            return shadow(from, wi, reach, self.beta * f * arriving, wi, pdf, weighted);
+        }
+        let span = target - from;
+        let len = span.length();
+        if !(len > 0.0) {
+            return ShadowRay::none();
+        }
+        shadow(from, span / len, len, self.beta * f * arriving, wi, pdf, weighted)
     }
 
     /// Takes the answer to `shadow`'s ray: its light when nothing blocks it.

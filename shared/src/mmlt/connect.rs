@@ -150,6 +150,11 @@ pub fn connect_candidate<R: RayCaster>(
     let (mat_pt, n_pt) = surface_pt;
     let (mat_qs, n_qs) = surface_qs;
     let mut l = Vec3::ZERO;
+    // The directions (wo, wi) at each end point that scatters, whose BSDF multiplies `l` once
+    // after the techniques' cases: each call is a copy of the material code in the device's
+    // compiled stage.
+    let (mut scatters_pt, mut wo_p, mut wi_p) = (false, Vec3::ZERO, Vec3::ZERO);
+    let (mut scatters_qs, mut wo_q, mut wi_q) = (false, Vec3::ZERO, Vec3::ZERO);
     // The pick probability of the light resampled for s = 1.
     let mut pick = 0.0f32;
     if s == 0 {
@@ -197,7 +202,8 @@ pub fn connect_candidate<R: RayCaster>(
                     (if qs.normal().dot(w) > 0.0 { Vec3::ONE } else { Vec3::ZERO }, qs.normal().dot(w).abs())
                 } else {
                     // The light subpath's end scatters importance: the adjoint's cosine.
-                    (bsdf_eval(&mat_qs, n_qs, wo, w, false), scattering_cosine(n_qs, wo, w, false))
+                    (scatters_qs, wo_q, wi_q) = (true, wo, w);
+                    (Vec3::ONE, scattering_cosine(n_qs, wo, w, false))
                 };
                 let g = cos_q * r.cos_theta / dist2;
                 l = qs.throughput() * f * (cam.importance(-w) * g);
@@ -216,9 +222,9 @@ pub fn connect_candidate<R: RayCaster>(
             // ends).
             qs.p = scene.environment.beyond(pp, wi).to_array();
             let wo = (pt_minus.position() - pp).normalize_or_zero();
-            let f_pt = bsdf_eval(&mat_pt, n_pt, wo, wi, true);
+            (scatters_pt, wo_p, wi_p) = (true, wo, wi);
             // qs.beta = L / (pick · p_ω).
-            l = pt.throughput() * f_pt * qs.throughput() * scattering_cosine(n_pt, wo, wi, true);
+            l = pt.throughput() * qs.throughput() * scattering_cosine(n_pt, wo, wi, true);
         } else if pt.kind == KIND_SURFACE && punctual_light {
             let pp = pt.position();
             let inc = scene.punctual[punctual_index(qs.triangle) as usize].incident(pp);
@@ -226,12 +232,9 @@ pub fn connect_candidate<R: RayCaster>(
             // light's direction (where the shadow ray ends and the reverse densities look from).
             qs.p = inc.from.to_array();
             let wo = (pt_minus.position() - pp).normalize_or_zero();
-            let f_pt = bsdf_eval(&mat_pt, n_pt, wo, inc.wi, true);
             if pick > 0.0 {
-                l = pt.throughput()
-                    * f_pt
-                    * inc.radiance
-                    * (scattering_cosine(n_pt, wo, inc.wi, true) / pick);
+                (scatters_pt, wo_p, wi_p) = (true, wo, inc.wi);
+                l = pt.throughput() * inc.radiance * (scattering_cosine(n_pt, wo, inc.wi, true) / pick);
             }
         } else if pt.kind == KIND_SURFACE {
             let pp = pt.position();
@@ -239,18 +242,25 @@ pub fn connect_candidate<R: RayCaster>(
             let dist2 = to_q.length_squared();
             if dist2 > 0.0 {
                 let w = to_q / dist2.sqrt();
-                let wo_p = (pt_minus.position() - pp).normalize_or_zero();
-                let f_pt = bsdf_eval(&mat_pt, n_pt, wo_p, w, true);
+                let wo = (pt_minus.position() - pp).normalize_or_zero();
+                (scatters_pt, wo_p, wi_p) = (true, wo, w);
                 let (f_qs, cos_q) = if s == 1 {
                     (if qs.normal().dot(-w) > 0.0 { Vec3::ONE } else { Vec3::ZERO }, qs.normal().dot(w).abs())
                 } else {
                     // The light subpath's end scatters importance: the adjoint's cosine.
-                    let wo_q = (qs_minus.position() - qp).normalize_or_zero();
-                    (bsdf_eval(&mat_qs, n_qs, wo_q, -w, false), scattering_cosine(n_qs, wo_q, -w, false))
+                    let wo = (qs_minus.position() - qp).normalize_or_zero();
+                    (scatters_qs, wo_q, wi_q) = (true, wo, -w);
+                    (Vec3::ONE, scattering_cosine(n_qs, wo, -w, false))
                 };
-                let g = scattering_cosine(n_pt, wo_p, w, true) * cos_q / dist2;
-                l = pt.throughput() * f_pt * f_qs * qs.throughput() * g;
+                let g = scattering_cosine(n_pt, wo, w, true) * cos_q / dist2;
+                l = pt.throughput() * f_qs * qs.throughput() * g;
             }
+        }
+        if scatters_pt {
+            l *= bsdf_eval(&mat_pt, n_pt, wo_p, wi_p, true);
+        }
+        if scatters_qs {
+            l *= bsdf_eval(&mat_qs, n_qs, wo_q, wi_q, false);
         }
         // One shadow ray between the end points; its cut-outs drawn from the connection's own
         // uniforms (the resampled light point's, unused otherwise for s ≥ 2).
