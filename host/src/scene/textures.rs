@@ -138,8 +138,8 @@ impl TextureStore {
     }
 
     /// [`TextureStore::reference`] of a textureInfo that the gltf crate does not read (an
-    /// extension's, as JSON: `index`, `texCoord` and its `KHR_texture_transform`; the index
-    /// checked by `super::validate`).
+    /// extension's, as JSON: `index`, `texCoord` and its `KHR_texture_transform`), refused in
+    /// one line where it names no texture.
     pub fn json_reference(
         &mut self,
         source: &Source,
@@ -150,6 +150,9 @@ impl TextureStore {
         let malformed = |what: String| SceneError::Malformed { path: source.name.into(), what };
         let index = info.get("index").and_then(serde_json::Value::as_u64);
         let index = index.ok_or_else(|| malformed(format!("{slot}: no texture index")))?;
+        if index >= source.doc.as_json().textures.len() as u64 {
+            return Err(malformed(format!("{slot}.index: {index} names no texture")));
+        }
         let tex_coord = match info.get("texCoord") {
             None => 0,
             Some(v) => {
