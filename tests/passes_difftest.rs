@@ -479,9 +479,11 @@ fn vertex_colour_passes_agree_on_device_and_cpu() {
 }
 
 /// On anisotropic roughness (`KHR_materials_anisotropy`): the colour fixture's ball a brushed
-/// metal and its floor an anisotropic dielectric turned 60°, both framed by MikkTSpace's
+/// metal and its floor an anisotropic dielectric turned 60° by its factor and texel by texel by
+/// a 4 × 4 anisotropyTexture (whose blue scales the strength), both framed by MikkTSpace's
 /// tangents over Blender's `TEXCOORD_0`, under `sky_map`: the tangent store, the lobes' frame,
-/// and the anisotropic GGX's evaluation and sampling in every stage.
+/// the texture's direction and strength, and the anisotropic GGX's evaluation and sampling in
+/// every stage.
 #[test]
 fn anisotropic_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("anisotropic_passes_agree_on_device_and_cpu") {
@@ -489,7 +491,16 @@ fn anisotropic_passes_agree_on_device_and_cpu() {
         let mut doc: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(fixture.join("round_trip.gltf")).unwrap()).unwrap();
         let brushed = serde_json::json!({"anisotropyStrength": 0.8});
-        let turned = serde_json::json!({"anisotropyStrength": 0.6, "anisotropyRotation": 1.05});
+        let turned = serde_json::json!({"anisotropyStrength": 0.6, "anisotropyRotation": 1.05,
+            "anisotropyTexture": {"index": 0}});
+        let image = smlt::scenes::png(4, 4, |x, y| {
+            [(30 + 60 * x) as u8, (230 - 55 * y) as u8, (90 + 40 * ((x + y) % 4)) as u8, 255]
+        });
+        use base64::Engine;
+        let uri =
+            format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(image));
+        doc["images"] = serde_json::json!([{ "uri": uri }]);
+        doc["textures"] = serde_json::json!([{ "source": 0 }]);
         for (material, extension) in [(3, brushed), (0, turned)] {
             let m = &mut doc["materials"][material];
             m["pbrMetallicRoughness"]["metallicFactor"] =
@@ -512,6 +523,7 @@ fn anisotropic_passes_agree_on_device_and_cpu() {
         assert!(scene.tangents.iter().any(|t| t.t != [0.0; 12]), "the floor's and the ball's tangents");
         let lobes = [0, 3].map(|k| scene.materials[k + 1]);
         assert!(lobes.iter().all(|m| !m.is_lambertian() && m.alphas().x > m.alphas().y), "{lobes:?}");
+        assert!(scene.material_textures[lobes[0].textures as usize].anisotropy.is_some());
         difftest_both_estimators(gpu, &scene);
     }
 }

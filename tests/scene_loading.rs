@@ -1232,13 +1232,18 @@ fn alpha_modes_read_as_the_spec_defines_them() {
 /// leaning towards +x, with `scale` and a `KHR_texture_transform` offset; with `smooth` its
 /// vertices have `NORMAL` (+y), so that its tangents are read or computed.
 fn normal_mapped_doc(scale: f32, smooth: bool) -> Value {
+    textured_floor_doc([218, 128, 218, 255], scale, smooth)
+}
+
+/// [`normal_mapped_doc`] with another texel.
+fn textured_floor_doc(texel: [u8; 4], scale: f32, smooth: bool) -> Value {
     use smlt::scenes::{facing, png, Planar};
     let mut b = GltfBuilder::new();
     let floor = b.pbr("floor", [0.5; 3], 0.0, 1.0);
     b.texture(
         floor,
         "normalTexture",
-        png(1, 1, |_, _| [218, 128, 218, 255]),
+        png(1, 1, |_, _| texel),
         json!({"magFilter": 9728}),
         Some(json!({"offset": [0.25, 0.5]})),
         Planar { u: Vec3::X, v: Vec3::Z },
@@ -1373,7 +1378,13 @@ fn a_mesh_tangent_sets_the_normal_textures_frame() {
 
 /// [`normal_mapped_doc`]'s floor without its normal texture, anisotropic by `extension`.
 fn anisotropic_doc(smooth: bool, extension: Value) -> Value {
-    let mut doc = normal_mapped_doc(1.0, smooth);
+    anisotropic_textured_doc([218, 128, 218, 255], smooth, extension)
+}
+
+/// [`anisotropic_doc`] whose texture 0 (1 × 1, linear, nearest) is `texel`, for the extension's
+/// anisotropyTexture.
+fn anisotropic_textured_doc(texel: [u8; 4], smooth: bool, extension: Value) -> Value {
+    let mut doc = textured_floor_doc(texel, 1.0, smooth);
     let material = &mut doc["materials"][0];
     material.as_object_mut().unwrap().remove("normalTexture");
     material["pbrMetallicRoughness"]["metallicFactor"] = json!(1.0);
@@ -1389,8 +1400,8 @@ fn anisotropic_doc(smooth: bool, extension: Value) -> Value {
 /// `TEXCOORD_0` (x along dp/du, +x here; the bitangent up the image, −dp/dv, as for a normal
 /// texture: −z), which the floor's
 /// `Normals::anisotropy` carries into the world; a flat mesh's triangles' own frames; a file
-/// that requires the extension loads. What is not modelled (the texture, a frame where the mesh
-/// gives none) is said, and values outside the spec's are refused in one line by path.
+/// that requires the extension loads. A frame where the mesh gives none is said, and values
+/// outside the spec's are refused in one line by path.
 #[test]
 fn anisotropy_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     let spec = json!({"anisotropyStrength": 0.6, "anisotropyRotation": 0.5});
@@ -1435,17 +1446,6 @@ fn anisotropy_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     let frameless = load(&bare).unwrap();
     let said = "meshes[0].primitives[0]: its material's KHR_materials_anisotropy has no tangent frame here";
     assert!(frameless.warnings.iter().any(|w| w.contains(said)), "{:?}", frameless.warnings);
-    let textured =
-        load(&anisotropic_doc(true, json!({"anisotropyStrength": 0.6, "anisotropyTexture": {"index": 0}})))
-            .unwrap();
-    assert!(
-        textured
-            .warnings
-            .iter()
-            .any(|w| w.contains("KHR_materials_anisotropy's anisotropyTexture is ignored")),
-        "{:?}",
-        textured.warnings
-    );
     for (extension, said) in [
         (json!({"anisotropyStrength": 1.5}), "anisotropyStrength: 1.5: must lie in [0, 1]"),
         (json!({"anisotropyStrength": -0.1}), "anisotropyStrength: -0.1: must lie in [0, 1]"),
@@ -1456,6 +1456,47 @@ fn anisotropy_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     }
     let err = load(&anisotropic_doc(true, json!(5))).unwrap_err().to_string();
     assert!(err.contains("materials[0].extensions.KHR_materials_anisotropy: 5 is not an object"), "{err}");
+}
+
+/// `KHR_materials_anisotropy`'s anisotropyTexture reads as the spec defines it: the texel's red
+/// and green, 2 c − 1, are the direction in the tangent frame, turned by anisotropyRotation;
+/// its blue multiplies anisotropyStrength (linear, no sRGB decoding). Without strength the
+/// texture is not read; a reference to no texture is refused by its path.
+#[test]
+fn an_anisotropy_texture_turns_and_scales_the_lobe() {
+    let (r, g, b) = (192.0f32, 237.0f32, 100.0f32);
+    let spec =
+        json!({"anisotropyStrength": 0.6, "anisotropyRotation": 0.5, "anisotropyTexture": {"index": 0}});
+    let scene = load(&anisotropic_textured_doc([192, 237, 100, 255], true, spec)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let t = scene.material_textures[scene.materials[1].textures as usize];
+    assert!(t.anisotropy.is_some() && t.anisotropic == 1);
+    // The direction: the texel's angle plus the rotation, in the frame (+x, −z).
+    let angle = texel(g).atan2(texel(r)) + 0.5;
+    let direction = Vec3::X * angle.cos() - Vec3::Z * angle.sin();
+    let n = floor_normal(&scene);
+    assert!((n.anisotropy.normalize() - direction).length() < 1e-5, "{} against {direction}", n.anisotropy);
+    // The strength: 0.6 × b / 255, which the material at the point carries.
+    let shared_scene = scene.shared();
+    let p = Vec3::new(0.3, 0.0, -0.2);
+    let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT, 0);
+    let m = shared::surface::material_at(&shared_scene, hit.triangle, p);
+    let strength = glam::Vec2::from_array(m.anisotropy).length();
+    assert!((strength - 0.6 * b / 255.0).abs() < 1e-6, "{strength}");
+    let s2 = strength * strength;
+    assert!((m.alphas() - glam::Vec2::new(0.16 + 0.84 * s2, 0.16)).abs().max_element() < 1e-6);
+    // No strength: the texture is not read.
+    let off = json!({"anisotropyStrength": 0.0, "anisotropyTexture": {"index": 0}});
+    let scene = load(&anisotropic_textured_doc([192, 237, 100, 255], true, off)).unwrap();
+    let t = scene.material_textures[scene.materials[1].textures as usize];
+    assert!(!t.anisotropy.is_some() && t.anisotropic == 0);
+    let bad = json!({"anisotropyStrength": 0.6, "anisotropyTexture": {"index": 7}});
+    let err = load(&anisotropic_textured_doc([192, 237, 100, 255], true, bad)).unwrap_err().to_string();
+    let said = "materials[0].extensions.KHR_materials_anisotropy.anisotropyTexture.index: 7 names no texture";
+    assert!(err.contains(said), "{err}");
+    let bad = json!({"anisotropyStrength": 0.6, "anisotropyTexture": {"texCoord": 0}});
+    let err = load(&anisotropic_textured_doc([192, 237, 100, 255], true, bad)).unwrap_err().to_string();
+    assert!(err.contains("anisotropyTexture: no texture index"), "{err}");
 }
 
 /// `KHR_materials_clearcoat` reads as the spec defines it: the intensity and roughness factors

@@ -11,7 +11,10 @@
 //!   blue channel of `metallicRoughnessTexture` (linear), mixed with transmission as the
 //!   untextured material is ([`Material::with_metallic`]);
 //! - emission is `emissiveFactor` × strength × `emissiveTexture`'s sRGB-decoded rgb;
-//! - the shading normal is bent by `normalTexture` (`crate::normal_map`, in [`normals_at`]).
+//! - the shading normal is bent by `normalTexture` (`crate::normal_map`, in [`normals_at`]);
+//! - `KHR_materials_anisotropy`'s strength is anisotropyStrength × the blue channel of its
+//!   anisotropyTexture (linear), whose red and green turn the lobe ([`anisotropy_direction`],
+//!   in [`normals_at`]).
 //!
 //! Texture coordinates are interpolated over the triangle from its vertices' `TEXCOORD_0` and
 //! `TEXCOORD_1` ([`TriangleTexcoords`]) at the point's barycentric coordinates, which
@@ -78,12 +81,15 @@ pub struct MaterialTextures {
     /// 1 where the material is anisotropic (`Material::anisotropy`), so that [`normals_at`]
     /// gives its direction; 0 otherwise (isotropic materials without textures read no entry).
     pub anisotropic: u32,
+    /// `KHR_materials_anisotropy`'s anisotropyTexture (linear; R and G a direction in the
+    /// tangent frame, [`anisotropy_direction`]; B the strength's factor).
+    pub anisotropy: TextureRef,
 }
 
 impl MaterialTextures {
     /// Every texture slot, in a fixed order (for the host's checks; the shading reads them by
     /// name).
-    pub fn slots(&self) -> [TextureRef; 7] {
+    pub fn slots(&self) -> [TextureRef; 8] {
         [
             self.base_color,
             self.metallic_roughness,
@@ -92,6 +98,7 @@ impl MaterialTextures {
             self.clearcoat,
             self.clearcoat_roughness,
             self.clearcoat_normal,
+            self.anisotropy,
         ]
     }
 }
@@ -233,21 +240,29 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     }
     let (uv0, uv1) = (coords.at(0, b), coords.at(1, b));
     let (mut shading, mut coat) = (n, n);
-    // One lookup in a loop over the two textures (the device module keeps one copy of it).
+    // The anisotropy's direction in the frame without a texture.
+    let mut local = Vec2::X;
+    // One lookup in a loop over the three textures (the device module keeps one copy of it).
     let mut slot = 0;
-    while slot < 2 {
+    while slot < 3 {
         let (r, scale) = if slot == 0 {
             (t.normal, t.normal_scale)
-        } else {
+        } else if slot == 1 {
             (t.clearcoat_normal, t.clearcoat_normal_scale)
+        } else {
+            (t.anisotropy, 1.0)
         };
         if r.is_some() {
             let texel = lookup(scene, r, uv0, uv1, false).truncate();
-            let bent = shading_normal(frame.bend(texel, scale, n), ng);
-            if slot == 0 {
-                shading = bent;
+            if slot == 2 {
+                local = texel.truncate();
             } else {
-                coat = bent;
+                let bent = shading_normal(frame.bend(texel, scale, n), ng);
+                if slot == 0 {
+                    shading = bent;
+                } else {
+                    coat = bent;
+                }
             }
         }
         slot += 1;
@@ -257,12 +272,26 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     // The frame's axes normalised first (MikkTSpace's are not, and their lengths differ), as
     // the extension's sample viewer mixes them.
     let direction = if anisotropic {
-        let d = Vec2::from_array(scene.materials[tri.material as usize].anisotropy).normalize_or_zero();
+        let factor = Vec2::from_array(scene.materials[tri.material as usize].anisotropy);
+        let d = if t.anisotropy.is_some() {
+            anisotropy_direction(factor, local)
+        } else {
+            factor.normalize_or_zero()
+        };
         frame.tangent.normalize_or_zero() * d.x + frame.bitangent.normalize_or_zero() * d.y
     } else {
         Vec3::ZERO
     };
     Normals { geometric: ng, shading, coat, anisotropy: direction }
+}
+
+/// The direction of an anisotropic lobe in the tangent frame (x the tangent, y the bitangent),
+/// unit or zero, where the material has an anisotropyTexture: `KHR_materials_anisotropy`'s
+/// direction from the texel's red and green channels `rg` (2·rg − 1, normalised) turned by
+/// anisotropyRotation θ, which `factor` (`Material::anisotropy`, s·(cos θ, sin θ)) carries.
+#[inline]
+pub fn anisotropy_direction(factor: Vec2, rg: Vec2) -> Vec2 {
+    factor.normalize_or_zero().rotate((rg * 2.0 - Vec2::ONE).normalize_or_zero())
 }
 
 /// The material of triangle `triangle` at barycentric coordinates `b` (see the module doc).
@@ -287,7 +316,7 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
     let mut out = m;
     // One lookup in a loop over the slots (the device module keeps one copy of it).
     let mut slot = 0;
-    while slot < 5 {
+    while slot < 6 {
         let r = if slot == 0 {
             t.base_color
         } else if slot == 1 {
@@ -296,8 +325,10 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
             t.emissive
         } else if slot == 3 {
             t.clearcoat
-        } else {
+        } else if slot == 4 {
             t.clearcoat_roughness
+        } else {
+            t.anisotropy
         };
         if r.is_some() {
             // Base colour and emission are sRGB, the others linear.
@@ -312,9 +343,12 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
                 out.emission = (Vec3::from_array(m.emission) * c.truncate()).to_array();
             } else if slot == 3 {
                 out.clearcoat = t.clearcoat_factor * c.x;
-            } else {
+            } else if slot == 4 {
                 let roughness = t.clearcoat_roughness_factor * c.y;
                 out.clearcoat_alpha = roughness * roughness;
+            } else {
+                // The strength's factor (the direction is `normals_at`'s).
+                out.anisotropy = (Vec2::from_array(m.anisotropy) * c.z).to_array();
             }
         }
         slot += 1;

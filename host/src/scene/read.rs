@@ -321,8 +321,12 @@ fn read_material(
         clearcoat_normal_scale: coat.normal_scale,
         ..textures
     };
-    let anisotropy = read_anisotropy(m, &label, &at, warnings, name)?;
-    let textures = MaterialTextures { anisotropic: u32::from(anisotropy != [0.0; 2]), ..textures };
+    let (anisotropy, anisotropy_texture) = read_anisotropy(m, store, source, &at, warnings)?;
+    let textures = MaterialTextures {
+        anisotropic: u32::from(anisotropy != [0.0; 2]),
+        anisotropy: anisotropy_texture,
+        ..textures
+    };
     let textured = textures.slots().iter().any(TextureRef::is_some)
         || textures.alpha_mode != ALPHA_OPAQUE
         || textures.anisotropic != 0;
@@ -375,18 +379,19 @@ fn read_material(
     Ok((material, textures, textured))
 }
 
-/// A material's `KHR_materials_anisotropy` as `Material::anisotropy`: anisotropyStrength s
-/// times (cos θ, sin θ), θ its anisotropyRotation (zero without the extension). Its texture is
-/// not read (a warning says so; the factors are used).
+/// A material's `KHR_materials_anisotropy`: `Material::anisotropy`, anisotropyStrength s times
+/// (cos θ, sin θ), θ its anisotropyRotation (zero without the extension), and its
+/// anisotropyTexture (none where s is 0: the lobe is isotropic whatever the texture says).
 fn read_anisotropy(
     m: &gltf::Material,
-    label: &str,
+    store: &mut TextureStore,
+    source: &Source,
     at: &str,
     warnings: &mut Vec<String>,
-    name: &str,
-) -> Result<[f32; 2], SceneError> {
+) -> Result<([f32; 2], TextureRef), SceneError> {
+    let name = source.name;
     let Some(ext) = m.extension_value(ANISOTROPY) else {
-        return Ok([0.0; 2]);
+        return Ok(([0.0; 2], TextureRef::NONE));
     };
     let at = format!("{at}.extensions.{ANISOTROPY}");
     if !ext.is_object() {
@@ -411,10 +416,14 @@ fn read_anisotropy(
             what: format!("{at}.anisotropyStrength: {strength}: must lie in [0, 1]"),
         });
     }
-    if ext.get("anisotropyTexture").is_some() {
-        warnings.push(format!("{label}: {ANISOTROPY}'s anisotropyTexture is ignored (its factors are used)"));
-    }
-    Ok([(strength * rotation.cos()) as f32, (strength * rotation.sin()) as f32])
+    let factor = [(strength * rotation.cos()) as f32, (strength * rotation.sin()) as f32];
+    let texture = match ext.get("anisotropyTexture") {
+        Some(info) if strength > 0.0 => {
+            store.json_reference(source, info, &format!("{at}.anisotropyTexture"), warnings)?
+        }
+        _ => TextureRef::NONE,
+    };
+    Ok((factor, texture))
 }
 
 /// The extension of anisotropic roughness.

@@ -114,6 +114,7 @@ fn fixture() -> Fixture {
                 clearcoat_normal_scale: 1.0,
                 vertex_colors: 0,
                 anisotropic: 0,
+                anisotropy: TextureRef::NONE,
             },
         ],
         textures: vec![
@@ -369,4 +370,23 @@ fn vertex_tangents_set_the_normal_textures_frame() {
     f.tangents = vec![TriangleTangents { t: [along_y, along_y, along_y].concat().try_into().unwrap() }];
     let bent = normals_at(&f.scene(), 0, p).shading;
     assert!((bent - Vec3::new(c, 1.0, c).normalize()).abs().max_element() < 1e-6, "{bent}");
+}
+
+/// The anisotropy's direction: the texel's 2·rg − 1 (unit or not) turned by the factor's angle,
+/// whatever the factor's length (the strength); zero where either gives no direction.
+#[test]
+fn anisotropy_direction_turns_the_texel_by_the_rotation() {
+    let factor = Vec2::new(0.5f32.cos(), 0.5f32.sin()) * 0.6;
+    let close = |a: Vec2, b: Vec2| (a - b).length() < 1e-6;
+    assert!(close(anisotropy_direction(factor, Vec2::new(1.0, 0.5)), Vec2::new(0.5f32.cos(), 0.5f32.sin())));
+    let quarter = 0.5 + core::f32::consts::FRAC_PI_2;
+    assert!(close(
+        anisotropy_direction(factor, Vec2::new(0.5, 0.9)),
+        Vec2::new(quarter.cos(), quarter.sin())
+    ));
+    let diagonal = 0.5 - core::f32::consts::FRAC_PI_4 * 3.0;
+    let d = anisotropy_direction(factor, Vec2::new(0.1, 0.1));
+    assert!(close(d, Vec2::new(diagonal.cos(), diagonal.sin())), "{d}");
+    assert_eq!(anisotropy_direction(factor, Vec2::splat(0.5)), Vec2::ZERO);
+    assert_eq!(anisotropy_direction(Vec2::ZERO, Vec2::new(1.0, 0.5)), Vec2::ZERO);
 }
