@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Mitsuba 3 against smlt on KHR_materials_anisotropy: the means and RMSEs that docs/results.md
 # quotes. A plate with NORMAL and TEXCOORD_0 (its tangent frame: plate_scene.FRAME) of each kind
-# (a brushed gold metal along the tangent and turned 1 rad, a red dielectric turned 0.5 rad)
+# (a brushed gold metal along the tangent and turned 1 rad, a red dielectric turned 0.5 rad, and
+# the gold turned 0.3 rad by its factor and again by a uniform anisotropyTexture, TEXEL, whose
+# direction 2·rg − 1 and strength factor b the exact image takes as the spec defines them)
 # under a sun, filling the view: smlt's reference against the plate's exact image (one bounce:
 # the BRDF at each pixel's directions × the sun's irradiance) through `smlt_gltf`
 # (mitsuba_gltf.py: the extension's V_GGX_anisotropic and D_GGX_anisotropic, written from its
@@ -21,25 +23,30 @@ size=(--width 128 --height 96 --max-depth 12)
 export DRJIT_LIBLLVM_PATH
 mkdir -p "$out"
 cd "$out"
+export TEXEL="140,250,160,255"
 PYTHONPATH="$root/scripts/peers" python3 - <<'PY'
+import os
 import plate_scene
+texel = [int(c) for c in os.environ["TEXEL"].split(",")]
 gold = {"baseColorFactor": [1.0, 0.78, 0.34, 1], "metallicFactor": 1.0, "roughnessFactor": 0.3}
 red = {"baseColorFactor": [0.7, 0.1, 0.08, 1], "metallicFactor": 0.0, "roughnessFactor": 0.25}
 plates = {
     "brushed": (gold, {"anisotropyStrength": 0.8}),
     "turned": (gold, {"anisotropyStrength": 0.8, "anisotropyRotation": 1.0}),
     "satin": (red, {"anisotropyStrength": 0.7, "anisotropyRotation": 0.5}),
+    "textured": (gold, {"anisotropyStrength": 0.8, "anisotropyRotation": 0.3, "anisotropyTexture": {"index": 0}}),
 }
 for name, (pbr, ext) in plates.items():
-    plate_scene.write(f"plate_{name}.gltf", name, pbr, {"KHR_materials_anisotropy": ext}, mapped=True)
+    plate_scene.write(f"plate_{name}.gltf", name, pbr, {"KHR_materials_anisotropy": ext}, mapped=True,
+                      texel=texel if "anisotropyTexture" in ext else None)
 PY
-for name in brushed turned satin; do
+for name in brushed turned satin textured; do
     "$smlt" reference "plate_$name.gltf" --device cpu --spp 256 "${size[@]}" --out "ref_plate_$name.exr" 2>&1 | { grep -E "noise" | sed "s/^/$name: /" || true; }
     "$smlt" reference "plate_$name.gltf" --device cpu --spp 1024 "${size[@]}" --environment 0.5,0.6,0.8 \
         --out "ref_sky_$name.exr" 2>&1 | { grep -E "noise" | sed "s/^/$name under the sky: /" || true; }
 done
 PYTHONPATH="$root/scripts/peers" python3 - "${size[@]}" <<'PY'
-import json, math, sys, tempfile
+import json, math, os, sys, tempfile
 import mitsuba as mi
 import numpy as np
 mi.set_variant("llvm_ad_rgb")
@@ -49,11 +56,16 @@ w, h, depth = int(sys.argv[2]), int(sys.argv[4]), int(sys.argv[6])
 (tx, ty, tz), (bx, by, bz) = plate_scene.FRAME
 print("plate: smlt | exact anisotropic (difference, RMSE) | exact isotropic (difference, RMSE)")
 skies = []
-for name in ["brushed", "turned", "satin"]:
+texel = [int(c) / 255 for c in os.environ["TEXEL"].split(",")]
+for name in ["brushed", "turned", "satin", "textured"]:
     scene = gltf_scene.load(f"plate_{name}.gltf")
     mat, sun = scene.materials[1], scene.lights[0]
     ext = json.load(open(f"plate_{name}.gltf"))["materials"][0]["extensions"]["KHR_materials_anisotropy"]
     strength, rotation = ext.get("anisotropyStrength", 0.0), ext.get("anisotropyRotation", 0.0)
+    if "anisotropyTexture" in ext:
+        # The spec: the texel's direction 2·rg − 1 turned by the rotation; its b times the strength.
+        rotation += math.atan2(2 * texel[1] - 1, 2 * texel[0] - 1)
+        strength *= texel[2]
     c, s = math.cos(rotation), math.sin(rotation)
     direction = [c * tx + s * bx, c * ty + s * by, c * tz + s * bz]
     images = {}

@@ -12,6 +12,7 @@ import base64
 import json
 import math
 import struct
+import zlib
 
 CORNERS = [(-8, 0, 8), (8, 0, 8), (8, 0, -8), (-8, 0, -8)]
 TO_SUN = (0.4, 1.0, 0.3)
@@ -27,10 +28,20 @@ def _sun_rotation():
     return [c / s * math.sin(angle / 2) for c in axis] + [math.cos(angle / 2)]
 
 
-def write(path, name, pbr, extensions, mapped=False):
+def _png(rgba):
+    """A 1 × 1 PNG of the 8-bit RGBA `rgba`."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    header = struct.pack(">IIBBBBB", 1, 1, 8, 6, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(b"\x00" + bytes(rgba)))
+            + chunk(b"IEND", b""))
+
+
+def write(path, name, pbr, extensions, mapped=False, texel=None):
     """Writes the plate of material `name` (its pbrMetallicRoughness `pbr` and material
     `extensions`) to `path`; `mapped`: with NORMAL (+Y) and TEXCOORD_0 (u along +x, v along +z,
-    [0, 1] over the plate), the tangent frame of KHR_materials_anisotropy (FRAME)."""
+    [0, 1] over the plate), the tangent frame of KHR_materials_anisotropy (FRAME); `texel`: the
+    8-bit RGBA of texture 0, 1 × 1 and nearest, for `extensions` to name."""
     data = b"".join(struct.pack("<3f", *v) for v in CORNERS) + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
     material = {"name": name, "pbrMetallicRoughness": pbr}
     if extensions:
@@ -58,6 +69,10 @@ def write(path, name, pbr, extensions, mapped=False):
         doc["accessors"] += [{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC3"},
                              {"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC2"}]
         doc["meshes"][0]["primitives"][0]["attributes"].update({"NORMAL": 2, "TEXCOORD_0": 3})
+    if texel is not None:
+        doc["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(_png(texel)).decode()}]
+        doc["samplers"] = [{"magFilter": 9728, "minFilter": 9728}]
+        doc["textures"] = [{"source": 0, "sampler": 0}]
     with open(path, "w") as f:
         json.dump(doc, f)
 
