@@ -483,7 +483,8 @@ fn vertex_colour_passes_agree_on_device_and_cpu() {
 /// a 4 × 4 anisotropyTexture (whose blue scales the strength), both framed by MikkTSpace's
 /// tangents over Blender's `TEXCOORD_0`, under `sky_map`: the tangent store, the lobes' frame,
 /// the texture's direction and strength, and the anisotropic GGX's evaluation and sampling in
-/// every stage.
+/// every stage. The floor's layer takes the same texture as `KHR_materials_specular`'s two
+/// (its alpha the factor's, its rgb the colour's).
 #[test]
 fn anisotropic_passes_agree_on_device_and_cpu() {
     if let Some(gpu) = common::gpu_or_skip("anisotropic_passes_agree_on_device_and_cpu") {
@@ -494,7 +495,7 @@ fn anisotropic_passes_agree_on_device_and_cpu() {
         let turned = serde_json::json!({"anisotropyStrength": 0.6, "anisotropyRotation": 1.05,
             "anisotropyTexture": {"index": 0}});
         let image = smlt::scenes::png(4, 4, |x, y| {
-            [(30 + 60 * x) as u8, (230 - 55 * y) as u8, (90 + 40 * ((x + y) % 4)) as u8, 255]
+            [(30 + 60 * x) as u8, (230 - 55 * y) as u8, (90 + 40 * ((x + y) % 4)) as u8, (80 + 50 * y) as u8]
         });
         use base64::Engine;
         let uri =
@@ -509,6 +510,10 @@ fn anisotropic_passes_agree_on_device_and_cpu() {
             // Blender wrote specularFactor 0 (Lambert): the extension's whole, the spec's layer.
             m["extensions"] = serde_json::json!({ "KHR_materials_anisotropy": extension });
         }
+        doc["materials"][0]["extensions"]["KHR_materials_specular"] = serde_json::json!({
+            "specularFactor": 0.9, "specularTexture": {"index": 0},
+            "specularColorFactor": [1.0, 0.8, 0.6], "specularColorTexture": {"index": 0}});
+        doc["extensionsUsed"].as_array_mut().unwrap().push(serde_json::json!("KHR_materials_specular"));
         doc["extensionsUsed"].as_array_mut().unwrap().push(serde_json::json!("KHR_materials_anisotropy"));
         let dir = std::env::temp_dir().join(format!("smlt-anisotropic-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
@@ -523,7 +528,8 @@ fn anisotropic_passes_agree_on_device_and_cpu() {
         assert!(scene.tangents.iter().any(|t| t.t != [0.0; 12]), "the floor's and the ball's tangents");
         let lobes = [0, 3].map(|k| scene.materials[k + 1]);
         assert!(lobes.iter().all(|m| !m.is_lambertian() && m.alphas().x > m.alphas().y), "{lobes:?}");
-        assert!(scene.material_textures[lobes[0].textures as usize].anisotropy.is_some());
+        let floor = scene.material_textures[lobes[0].textures as usize];
+        assert!(floor.anisotropy.is_some() && floor.specular.is_some() && floor.specular_color.is_some());
         difftest_both_estimators(gpu, &scene);
     }
 }

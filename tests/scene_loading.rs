@@ -1458,6 +1458,42 @@ fn anisotropy_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     assert!(err.contains("materials[0].extensions.KHR_materials_anisotropy: 5 is not an object"), "{err}");
 }
 
+/// `KHR_materials_specular`'s textures read as the spec defines them: specularTexture's alpha
+/// (linear) multiplies specularFactor, specularColorTexture's rgb (sRGB-decoded) multiplies
+/// specularColorFactor, each at the point's own coordinates; a reference to no texture is
+/// refused by its path.
+#[test]
+fn specular_textures_multiply_their_factors() {
+    let doc = |specular: Value| {
+        let mut doc = textured_floor_doc([192, 237, 100, 128], 1.0, true);
+        let material = &mut doc["materials"][0];
+        material.as_object_mut().unwrap().remove("normalTexture");
+        material["extensions"] = json!({ "KHR_materials_specular": specular });
+        doc["extensionsUsed"] = json!(["KHR_materials_specular", "KHR_lights_punctual"]);
+        doc
+    };
+    let spec = json!({"specularFactor": 0.5, "specularTexture": {"index": 0},
+        "specularColorFactor": [1.0, 0.5, 0.25], "specularColorTexture": {"index": 0}});
+    let scene = load(&doc(spec)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let t = scene.material_textures[scene.materials[1].textures as usize];
+    assert!(t.specular.is_some() && t.specular_color.is_some());
+    let shared_scene = scene.shared();
+    let p = Vec3::new(0.3, 0.0, -0.2);
+    let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT, 0);
+    let m = shared::surface::material_at(&shared_scene, hit.triangle, p);
+    assert!((m.specular - 0.5 * 128.0 / 255.0).abs() < 1e-6, "{}", m.specular);
+    let decoded = [192.0f32, 237.0, 100.0].map(|c| shared::texture::srgb_to_linear(c / 255.0));
+    let expected = [decoded[0], 0.5 * decoded[1], 0.25 * decoded[2]];
+    assert!(
+        m.specular_color.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-6),
+        "{:?}",
+        m.specular_color
+    );
+    let err = load(&doc(json!({"specularTexture": {"index": 7}}))).unwrap_err().to_string();
+    assert!(err.contains("specularTexture"), "{err}");
+}
+
 /// `KHR_materials_anisotropy`'s anisotropyTexture reads as the spec defines it: the texel's red
 /// and green, 2 c − 1, are the direction in the tangent frame, turned by anisotropyRotation;
 /// its blue multiplies anisotropyStrength (linear, no sRGB decoding). Without strength the

@@ -6,7 +6,10 @@
 #     spec's BRDF written independently) and against each plate's exact image (one bounce: the
 #     BRDF at each pixel's directions × the sun's irradiance, evaluated by Mitsuba); and
 #     Mitsuba's own `principled` (Disney's BRDF, not glTF's) against its exact image, which
-#     states the difference to expect between the two models before it is measured.
+#     states the difference to expect between the two models before it is measured. The
+#     `specular` plate's KHR_materials_specular has a specularTexture and a specularColorTexture
+#     of one texel, TEXEL: Mitsuba takes the untextured plate whose factors are the products the
+#     spec defines (the alpha linear, the rgb sRGB-decoded), computed here.
 #  2. The `materials` scene (every lobe, a mirror included, under two area lamps): smlt's
 #     reference against Mitsuba with `smlt_gltf`.
 #   scripts/peers/check_materials.sh [OUT]   (default: /tmp/check-materials)
@@ -22,8 +25,11 @@ export DRJIT_LIBLLVM_PATH
 mkdir -p "$out"
 cd "$out"
 "$smlt" scene materials --out materials.gltf >/dev/null
+export TEXEL="192,237,100,128"
 PYTHONPATH="$root/scripts/peers" python3 - <<'PY'
+import os
 import plate_scene
+texel = [int(c) for c in os.environ["TEXEL"].split(",")]
 plates = {
     "gold": {"baseColorFactor": [1.0, 0.78, 0.34, 1], "metallicFactor": 1.0, "roughnessFactor": 0.35},
     "plastic": {"baseColorFactor": [0.7, 0.1, 0.08, 1], "metallicFactor": 0.0, "roughnessFactor": 0.3},
@@ -32,10 +38,24 @@ plates = {
 }
 for name, pbr in plates.items():
     plate_scene.write(f"plate_{name}.gltf", name, pbr, {})
+# The specular plate: red plastic with both of KHR_materials_specular's textures, and its
+# untextured equal for Mitsuba.
+srgb = lambda c: c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4  # noqa: E731
+factor, color = 0.9, [1.0, 0.8, 0.6]
+textured = {"specularFactor": factor, "specularTexture": {"index": 0},
+            "specularColorFactor": color, "specularColorTexture": {"index": 0}}
+plate_scene.write("plate_specular.gltf", "specular", plates["plastic"], {"KHR_materials_specular": textured},
+                  mapped=True, texel=texel)
+products = {"specularFactor": factor * texel[3] / 255,
+            "specularColorFactor": [f * srgb(c / 255) for f, c in zip(color, texel)]}
+plate_scene.write("plate_specular_factors.gltf", "specular", plates["plastic"], {"KHR_materials_specular": products},
+                  mapped=True)
 PY
-for name in gold plastic satin defaults; do
+for name in gold plastic satin defaults specular; do
+    peer=$name
+    [ "$name" = specular ] && peer=specular_factors
     "$smlt" reference "plate_$name.gltf" --device cpu --spp 1024 "${size[@]}" --out "ref_plate_$name.exr" | { grep -E "noise" || true; }
-    python3 "$root/scripts/peers/mitsuba_peer.py" "plate_$name.gltf" "${size[@]}" --variant llvm_ad_rgb \
+    python3 "$root/scripts/peers/mitsuba_peer.py" "plate_$peer.gltf" "${size[@]}" --variant llvm_ad_rgb \
         --reference "ref_plate_$name.exr" --converged 1024 --label "plate_$name" | tail -1
 done
 PYTHONPATH="$root/scripts/peers" python3 - "${size[@]}" <<'PY'
@@ -50,8 +70,8 @@ mitsuba_gltf.register()
 w, h, depth = int(sys.argv[2]), int(sys.argv[4]), int(sys.argv[6])
 exact = lambda d, sun: plate_scene.exact_image(mi, d, sun, w, h)  # noqa: E731
 print("plate: smlt | smlt_gltf exact | principled exact, principled render (means; principled vs glTF expected, measured)")
-for name in ["gold", "plastic", "satin", "defaults"]:
-    scene = gltf_scene.load(f"plate_{name}.gltf")
+for name in ["gold", "plastic", "satin", "defaults", "specular"]:
+    scene = gltf_scene.load(f"plate_{name}_factors.gltf" if name == "specular" else f"plate_{name}.gltf")
     mat, sun = scene.materials[1], scene.lights[0]
     with tempfile.TemporaryDirectory() as folder:
         d = mitsuba_peer.scene_dict(mi, scene, 1, w, h, depth, folder)

@@ -12,6 +12,8 @@
 //!   untextured material is ([`Material::with_metallic`]);
 //! - emission is `emissiveFactor` × strength × `emissiveTexture`'s sRGB-decoded rgb;
 //! - the shading normal is bent by `normalTexture` (`crate::normal_map`, in [`normals_at`]);
+//! - `KHR_materials_specular`'s specularFactor × specularTexture's alpha (linear) and
+//!   specularColorFactor × specularColorTexture's sRGB-decoded rgb;
 //! - `KHR_materials_anisotropy`'s strength is anisotropyStrength × the blue channel of its
 //!   anisotropyTexture (linear), whose red and green turn the lobe ([`anisotropy_direction`],
 //!   in [`normals_at`]).
@@ -84,12 +86,16 @@ pub struct MaterialTextures {
     /// `KHR_materials_anisotropy`'s anisotropyTexture (linear; R and G a direction in the
     /// tangent frame, [`anisotropy_direction`]; B the strength's factor).
     pub anisotropy: TextureRef,
+    /// `KHR_materials_specular`'s specularTexture (linear; A the specularFactor's factor).
+    pub specular: TextureRef,
+    /// `KHR_materials_specular`'s specularColorTexture (sRGB; rgb the specularColorFactor's).
+    pub specular_color: TextureRef,
 }
 
 impl MaterialTextures {
     /// Every texture slot, in a fixed order (for the host's checks; the shading reads them by
     /// name).
-    pub fn slots(&self) -> [TextureRef; 8] {
+    pub fn slots(&self) -> [TextureRef; 10] {
         [
             self.base_color,
             self.metallic_roughness,
@@ -99,6 +105,8 @@ impl MaterialTextures {
             self.clearcoat_roughness,
             self.clearcoat_normal,
             self.anisotropy,
+            self.specular,
+            self.specular_color,
         ]
     }
 }
@@ -316,7 +324,7 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
     let mut out = m;
     // One lookup in a loop over the slots (the device module keeps one copy of it).
     let mut slot = 0;
-    while slot < 6 {
+    while slot < 8 {
         let r = if slot == 0 {
             t.base_color
         } else if slot == 1 {
@@ -327,12 +335,16 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
             t.clearcoat
         } else if slot == 4 {
             t.clearcoat_roughness
-        } else {
+        } else if slot == 5 {
             t.anisotropy
+        } else if slot == 6 {
+            t.specular
+        } else {
+            t.specular_color
         };
         if r.is_some() {
-            // Base colour and emission are sRGB, the others linear.
-            let c = lookup(scene, r, uv0, uv1, slot == 0 || slot == 2);
+            // Base colour, emission and specular colour are sRGB, the others linear.
+            let c = lookup(scene, r, uv0, uv1, slot == 0 || slot == 2 || slot == 7);
             if slot == 0 {
                 out.albedo = (Vec3::from_array(m.albedo) * c.truncate()).to_array();
             } else if slot == 1 {
@@ -346,9 +358,13 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
             } else if slot == 4 {
                 let roughness = t.clearcoat_roughness_factor * c.y;
                 out.clearcoat_alpha = roughness * roughness;
-            } else {
+            } else if slot == 5 {
                 // The strength's factor (the direction is `normals_at`'s).
                 out.anisotropy = (Vec2::from_array(m.anisotropy) * c.z).to_array();
+            } else if slot == 6 {
+                out.specular = m.specular * c.w;
+            } else {
+                out.specular_color = (Vec3::from_array(m.specular_color) * c.truncate()).to_array();
             }
         }
         slot += 1;

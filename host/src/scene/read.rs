@@ -322,14 +322,11 @@ fn read_material(
         ..textures
     };
     let (anisotropy, anisotropy_texture) = read_anisotropy(m, store, source, &at, warnings)?;
-    let textures = MaterialTextures {
+    let mut textures = MaterialTextures {
         anisotropic: u32::from(anisotropy != [0.0; 2]),
         anisotropy: anisotropy_texture,
         ..textures
     };
-    let textured = textures.slots().iter().any(TextureRef::is_some)
-        || textures.alpha_mode != ALPHA_OPAQUE
-        || textures.anisotropic != 0;
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}.{what}") };
     let unit = |x: f32| (0.0..=1.0).contains(&x);
     let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
@@ -357,12 +354,18 @@ fn read_material(
                 "extensions.KHR_materials_specular.specularColorFactor: {specular_color:?}: each component must be finite and ≥ 0"
             )));
         }
-        if ext.specular_texture().is_some() || ext.specular_color_texture().is_some() {
-            warnings.push(format!(
-                "{label}: KHR_materials_specular's textures are ignored (its factors are used)"
-            ));
+        let at = format!("{at}.extensions.KHR_materials_specular");
+        if let Some(info) = ext.specular_texture() {
+            textures.specular = store.reference(source, &info, &format!("{at}.specularTexture"), warnings)?;
+        }
+        if let Some(info) = ext.specular_color_texture() {
+            let slot = format!("{at}.specularColorTexture");
+            textures.specular_color = store.reference(source, &info, &slot, warnings)?;
         }
     }
+    let textured = textures.slots().iter().any(TextureRef::is_some)
+        || textures.alpha_mode != ALPHA_OPAQUE
+        || textures.anisotropic != 0;
     let material = Material {
         albedo: [base[0], base[1], base[2]],
         phong_exponent: phong,

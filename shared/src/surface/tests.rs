@@ -115,6 +115,8 @@ fn fixture() -> Fixture {
                 vertex_colors: 0,
                 anisotropic: 0,
                 anisotropy: TextureRef::NONE,
+                specular: TextureRef::NONE,
+                specular_color: TextureRef::NONE,
             },
         ],
         textures: vec![
