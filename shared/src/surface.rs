@@ -248,8 +248,8 @@ pub fn normals_at<R>(scene: &Scene<R>, triangle: u32, p: Vec3) -> Normals {
     }
     let (uv0, uv1) = (coords.at(0, b), coords.at(1, b));
     let (mut shading, mut coat) = (n, n);
-    // The anisotropy's direction in the frame without a texture.
-    let mut local = Vec2::X;
+    // The anisotropyTexture's red and green (read only where the material has one).
+    let mut local = Vec2::ZERO;
     // One lookup in a loop over the three textures (the device module keeps one copy of it).
     let mut slot = 0;
     while slot < 3 {
