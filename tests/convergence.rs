@@ -580,7 +580,7 @@ fn every_method_converges_to_the_same_image_under_a_clear_coat() {
 
 /// Every method converges to the same image on textures (`textured_scene`: a NEAREST checker,
 /// bilinear bands through a texture transform, a metallic-roughness texture striping a ball
-/// into dielectric and metal, and an area lamp whose emission is a texture): the path tracer,
+/// into dielectric and metal, a transmission texture making stripes of it glass, and an area lamp whose emission is a texture): the path tracer,
 /// s3, rc4 and the path estimator agree with naive block by block — each looks a vertex's
 /// material up where it shades it (light sampling, the subpaths, the connection's weights).
 #[test]

@@ -1494,6 +1494,58 @@ fn specular_textures_multiply_their_factors() {
     assert!(err.contains("specularTexture"), "{err}");
 }
 
+/// `KHR_materials_transmission`'s transmissionTexture reads as the spec defines it: its red
+/// (linear) multiplies transmissionFactor point by point, and the point's transmission mixes with
+/// the point's metallic (its metallicRoughnessTexture's blue × metallicFactor) as the untextured
+/// material's does. Without a factor the texture is not read; a reference to no texture is
+/// refused by its path.
+#[test]
+fn a_transmission_texture_scales_the_glass_share() {
+    let doc = |transmission: Value| {
+        let mut doc = textured_floor_doc([192, 237, 100, 128], 1.0, true);
+        let material = &mut doc["materials"][0];
+        material.as_object_mut().unwrap().remove("normalTexture");
+        // Smooth (a thin wall's rough transmission would be rendered smooth, with a warning).
+        material["pbrMetallicRoughness"]["roughnessFactor"] = json!(0.0);
+        material["pbrMetallicRoughness"]["metallicFactor"] = json!(0.6);
+        material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({"index": 0});
+        material["extensions"] = json!({ "KHR_materials_transmission": transmission });
+        doc["extensionsUsed"] = json!(["KHR_materials_transmission", "KHR_lights_punctual"]);
+        doc
+    };
+    let at_point = |scene: &SceneData| {
+        let shared_scene = scene.shared();
+        let p = Vec3::new(0.3, 0.0, -0.2);
+        let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT, 0);
+        shared::surface::material_at(&shared_scene, hit.triangle, p)
+    };
+    let scene = load(&doc(json!({"transmissionFactor": 0.9, "transmissionTexture": {"index": 0}}))).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let m = at_point(&scene);
+    let (metallic, transmission) = (0.6 * 100.0 / 255.0, 0.9 * 192.0 / 255.0);
+    let glass = transmission * (1.0 - metallic);
+    assert!((m.transmission - glass).abs() < 1e-6, "{} against {glass}", m.transmission);
+    assert!((m.metallic - metallic / (1.0 - glass)).abs() < 1e-6, "{}", m.metallic);
+    // The same as the untextured material of the products.
+    let mut products = doc(json!({ "transmissionFactor": transmission }));
+    let pbr = &mut products["materials"][0]["pbrMetallicRoughness"];
+    pbr.as_object_mut().unwrap().remove("metallicRoughnessTexture");
+    pbr["metallicFactor"] = json!(metallic);
+    let untextured = at_point(&load(&products).unwrap());
+    assert!(
+        (m.transmission - untextured.transmission).abs() < 1e-6
+            && (m.metallic - untextured.metallic).abs() < 1e-6
+    );
+    // No factor: nothing to multiply, the texture is not read.
+    let off = load(&doc(json!({"transmissionFactor": 0.0, "transmissionTexture": {"index": 0}}))).unwrap();
+    assert!(!off.material_textures[off.materials[1].textures as usize].transmission.is_some());
+    assert_eq!(at_point(&off).transmission, 0.0);
+    let err = load(&doc(json!({"transmissionFactor": 0.5, "transmissionTexture": {"index": 7}})))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("transmissionTexture"), "{err}");
+}
+
 /// `KHR_materials_anisotropy`'s anisotropyTexture reads as the spec defines it: the texel's red
 /// and green, 2 c − 1, are the direction in the tangent frame, turned by anisotropyRotation;
 /// its blue multiplies anisotropyStrength (linear, no sRGB decoding). Without strength the

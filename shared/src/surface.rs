@@ -12,6 +12,8 @@
 //!   untextured material is ([`Material::with_metallic`]);
 //! - emission is `emissiveFactor` × strength × `emissiveTexture`'s sRGB-decoded rgb;
 //! - the shading normal is bent by `normalTexture` (`crate::normal_map`, in [`normals_at`]);
+//! - `KHR_materials_transmission`'s transmission is transmissionFactor × transmissionTexture's
+//!   red channel (linear), mixed with the point's metallic as the untextured material is;
 //! - `KHR_materials_specular`'s specularFactor × specularTexture's alpha (linear) and
 //!   specularColorFactor × specularColorTexture's sRGB-decoded rgb;
 //! - `KHR_materials_anisotropy`'s strength is anisotropyStrength × the blue channel of its
@@ -53,8 +55,9 @@ pub struct MaterialTextures {
     pub metallic: f32,
     /// glTF's roughnessFactor (the material's `alpha` is its square).
     pub roughness: f32,
-    /// `KHR_materials_transmission`'s transmissionFactor.
-    pub transmission: f32,
+    /// `KHR_materials_transmission`'s transmissionFactor (the material's `transmission` is a
+    /// share derived from it).
+    pub transmission_factor: f32,
     /// glTF's `alphaMode` (`crate::cutout`'s `ALPHA_*`; OPAQUE for a material without one).
     pub alpha_mode: u32,
     /// glTF's `alphaCutoff` (MASK).
@@ -90,12 +93,15 @@ pub struct MaterialTextures {
     pub specular: TextureRef,
     /// `KHR_materials_specular`'s specularColorTexture (sRGB; rgb the specularColorFactor's).
     pub specular_color: TextureRef,
+    /// `KHR_materials_transmission`'s transmissionTexture (linear; R the transmissionFactor's
+    /// factor).
+    pub transmission: TextureRef,
 }
 
 impl MaterialTextures {
     /// Every texture slot, in a fixed order (for the host's checks; the shading reads them by
     /// name).
-    pub fn slots(&self) -> [TextureRef; 10] {
+    pub fn slots(&self) -> [TextureRef; 11] {
         [
             self.base_color,
             self.metallic_roughness,
@@ -107,6 +113,7 @@ impl MaterialTextures {
             self.anisotropy,
             self.specular,
             self.specular_color,
+            self.transmission,
         ]
     }
 }
@@ -322,9 +329,11 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
     let coords = element_or(scene.texcoords, triangle as usize, TriangleTexcoords::default());
     let (uv0, uv1) = (coords.at(0, b), coords.at(1, b));
     let mut out = m;
+    // glTF's metallic and transmission at the point, mixed once after the loop.
+    let (mut metallic, mut transmission) = (t.metallic, t.transmission_factor);
     // One lookup in a loop over the slots (the device module keeps one copy of it).
     let mut slot = 0;
-    while slot < 8 {
+    while slot < 9 {
         let r = if slot == 0 {
             t.base_color
         } else if slot == 1 {
@@ -339,8 +348,10 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
             t.anisotropy
         } else if slot == 6 {
             t.specular
-        } else {
+        } else if slot == 7 {
             t.specular_color
+        } else {
+            t.transmission
         };
         if r.is_some() {
             // Base colour, emission and specular colour are sRGB, the others linear.
@@ -350,7 +361,7 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
             } else if slot == 1 {
                 let roughness = t.roughness * c.y;
                 out.alpha = roughness * roughness;
-                out = out.with_metallic(t.metallic * c.z, t.transmission);
+                metallic = t.metallic * c.z;
             } else if slot == 2 {
                 out.emission = (Vec3::from_array(m.emission) * c.truncate()).to_array();
             } else if slot == 3 {
@@ -363,11 +374,16 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
                 out.anisotropy = (Vec2::from_array(m.anisotropy) * c.z).to_array();
             } else if slot == 6 {
                 out.specular = m.specular * c.w;
-            } else {
+            } else if slot == 7 {
                 out.specular_color = (Vec3::from_array(m.specular_color) * c.truncate()).to_array();
+            } else {
+                transmission = t.transmission_factor * c.x;
             }
         }
         slot += 1;
+    }
+    if t.metallic_roughness.is_some() || t.transmission.is_some() {
+        out = out.with_metallic(metallic, transmission);
     }
     if t.vertex_colors != 0 {
         let c = element_or(scene.colors, triangle as usize, TriangleColors::default()).at(b);

@@ -320,8 +320,10 @@ pub fn coated_scene(point: bool) -> SceneData {
 /// Every texture slot glTF has, each with a different sampler: a checker floor (base colour,
 /// NEAREST) whose tiles lean four ways (normalTexture, NEAREST), a wall of colour bands (base colour, bilinear, MIRRORED_REPEAT, through a
 /// `KHR_texture_transform`), a smooth ball whose metallic-roughness texture stripes it into rough
-/// dielectric, rough metal and a glossier metal (bilinear) and whose normal texture ridges it
-/// (bilinear, in MikkTSpace's vertex tangents), and an area lamp whose
+/// dielectric, rough metal and a glossier half metal (bilinear), whose transmissionTexture (the
+/// same image's red) makes much of the dielectric and some of the half metal a thin wall of
+/// glass, and whose normal texture ridges it (bilinear, in MikkTSpace's vertex tangents), and
+/// an area lamp whose
 /// emissiveTexture is a bright frame round a dim centre (NEAREST, CLAMP_TO_EDGE).
 #[allow(dead_code)]
 pub fn textured_scene() -> SceneData {
@@ -365,15 +367,19 @@ pub fn textured_scene() -> SceneData {
     );
     b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 2.5, -2.), v(-2., 2.5, -2.)]);
     let ball = b.pbr("striped metal", [0.95, 0.7, 0.4], 1.0, 1.0);
-    let stripes = png(3, 1, |x, _| [[0, 255, 0, 255], [0, 200, 255, 255], [0, 110, 255, 255]][x as usize]);
-    b.texture(
-        ball,
-        "metallicRoughnessTexture",
-        stripes,
-        json!({"magFilter": 9729}),
-        None,
-        Planar { u: Vec3::X * 1.5, v: Vec3::Y },
-    );
+    let stripes =
+        png(3, 1, |x, _| [[200, 255, 0, 255], [255, 200, 255, 255], [90, 110, 128, 255]][x as usize]);
+    b.transmission(ball, 1.0);
+    for slot in ["metallicRoughnessTexture", "transmissionTexture"] {
+        b.texture(
+            ball,
+            slot,
+            stripes.clone(),
+            json!({"magFilter": 9729}),
+            None,
+            Planar { u: Vec3::X * 1.5, v: Vec3::Y },
+        );
+    }
     // Smooth, with a normal texture of ridges on the same coordinates: the curved mesh's
     // vertex tangents are MikkTSpace's (the mesh has no TANGENT).
     let ridges = png(6, 1, |x, _| {

@@ -11,7 +11,7 @@
 //!   primitive one Draco stream (`KHR_draco_mesh_compression`: `draco`);
 //! - materials: glTF's metallic-roughness BRDF (`baseColorFactor`, `metallicFactor`,
 //!   `roughnessFactor`, `KHR_materials_specular`, `KHR_materials_ior`), glass
-//!   (`KHR_materials_transmission`, `_volume`), the clear coat (`KHR_materials_clearcoat`, its
+//!   (`KHR_materials_transmission` with its texture, `_volume`), the clear coat (`KHR_materials_clearcoat`, its
 //!   textures and normal texture, read from the JSON: `read`); `emissiveFactor` ×
 //!   `KHR_materials_emissive_strength` → emission (one-sided, along the triangle's
 //!   counter-clockwise normal); the Phong exponent from the material's extras, key

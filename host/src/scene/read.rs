@@ -277,7 +277,13 @@ fn read_material(
         normal,
         metallic: pbr.metallic_factor(),
         roughness: pbr.roughness_factor(),
-        transmission: m.transmission().map_or(0.0, |t| t.transmission_factor()),
+        transmission_factor: m.transmission().map_or(0.0, |t| t.transmission_factor()),
+        // Not read where the factor is 0: it multiplies the factor.
+        transmission: slot(
+            m.transmission().filter(|t| t.transmission_factor() > 0.0).and_then(|t| t.transmission_texture()),
+            "extensions.KHR_materials_transmission.transmissionTexture",
+            warnings,
+        )?,
         alpha_mode: ALPHA_OPAQUE,
         alpha_cutoff: 0.5,
         alpha: base[3],
@@ -535,6 +541,8 @@ fn read_alpha(
 /// index `ior`, thin-walled without `KHR_materials_volume` (or with thicknessFactor 0), the
 /// boundary of a solid with it, attenuating by Beer–Lambert with −ln(attenuationColor) /
 /// attenuationDistance. A thin wall's rough transmission is rendered smooth, with a warning.
+/// (The transmissionTexture, which multiplies the factor point by point, is the material
+/// textures', `shared::surface`.)
 fn read_glass(
     m: &gltf::Material,
     label: &str,
@@ -565,9 +573,6 @@ fn read_glass(
         )));
     }
     glass.transmission = factor;
-    if transmission.transmission_texture().is_some() {
-        warnings.push(format!("{label}: transmissionTexture is ignored (its factor is used)"));
-    }
     if let Some(volume) = m.volume() {
         let distance = volume.attenuation_distance();
         if !(distance > 0.0) {

@@ -290,8 +290,9 @@ impl GltfBuilder {
     }
 
     /// Gives `material` a texture in `slot` (`baseColorTexture`, `metallicRoughnessTexture`,
-    /// `emissiveTexture`, `normalTexture`, or a clear coat's ([`GltfBuilder::clearcoat`] first):
-    /// `clearcoatTexture`, `clearcoatRoughnessTexture`, `clearcoatNormalTexture`): a PNG, its sampler's JSON and an optional
+    /// `emissiveTexture`, `normalTexture`, a clear coat's ([`GltfBuilder::clearcoat`] first):
+    /// `clearcoatTexture`, `clearcoatRoughnessTexture`, `clearcoatNormalTexture`, or the
+    /// transmission's ([`GltfBuilder::transmission`] first): `transmissionTexture`): a PNG, its sampler's JSON and an optional
     /// `KHR_texture_transform`, read with TEXCOORD_0, which the material's meshes get from
     /// `projection`.
     pub fn texture(
@@ -314,6 +315,10 @@ impl GltfBuilder {
             let coat = &mut m["extensions"]["KHR_materials_clearcoat"];
             assert!(coat.is_object(), "a clear coat's texture needs the coat ({slot})");
             coat[slot] = info;
+        } else if slot == "transmissionTexture" {
+            let glass = &mut m["extensions"]["KHR_materials_transmission"];
+            assert!(glass.is_object(), "a transmissionTexture needs the transmission ({slot})");
+            glass[slot] = info;
         } else if slot == "emissiveTexture" || slot == "normalTexture" {
             m[slot] = info;
         } else {
@@ -351,6 +356,16 @@ impl GltfBuilder {
         }
         m["extensions"]["KHR_materials_clearcoat"] =
             json!({"clearcoatFactor": factor, "clearcoatRoughnessFactor": roughness});
+    }
+
+    /// Makes `transmission` of `material` a thin-walled dielectric (`KHR_materials_transmission`'s
+    /// transmissionFactor; the rest stays its metallic-roughness BRDF).
+    pub fn transmission(&mut self, material: usize, transmission: f32) {
+        let m = &mut self.materials[material];
+        if !m["extensions"].is_object() {
+            m["extensions"] = json!({});
+        }
+        m["extensions"]["KHR_materials_transmission"] = json!({"transmissionFactor": transmission});
     }
 
     /// Makes the solid glass `material` ([`GltfBuilder::glass`]) absorb: the colour white

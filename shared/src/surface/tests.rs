@@ -100,7 +100,7 @@ fn fixture() -> Fixture {
                 },
                 metallic: 0.8,
                 roughness: 0.6,
-                transmission: 0.5,
+                transmission_factor: 0.5,
                 alpha_mode: 0,
                 alpha_cutoff: 0.5,
                 alpha: 1.0,
@@ -117,6 +117,7 @@ fn fixture() -> Fixture {
                 anisotropy: TextureRef::NONE,
                 specular: TextureRef::NONE,
                 specular_color: TextureRef::NONE,
+                transmission: TextureRef::NONE,
             },
         ],
         textures: vec![
@@ -233,6 +234,36 @@ fn textures_multiply_their_factors_at_the_points_coordinates() {
     // Light sampling's barycentric lookup agrees with the positional one.
     let b = Vec2::new(1.0 - 0.7 - 0.1, 0.7);
     assert_eq!(material_at_barycentrics(&scene, 0, b).albedo, m.albedo);
+}
+
+/// `KHR_materials_transmission`'s transmissionTexture: the point's transmission is the factor
+/// times the texel's red (linear), mixed with the point's metallic (the metallic-roughness
+/// texture's) as the untextured material mixes them; without a metallic-roughness texture the
+/// metallic is the factor's.
+#[test]
+fn a_transmission_texture_scales_the_glass_share() {
+    let mut f = fixture();
+    // The base colour texture's texel (1, 0), pure green at (0.7, 0.1): red 0, no glass.
+    f.material_textures[1].transmission =
+        TextureRef { texture: 0, tex_coord: 0, transform: crate::texture::IDENTITY };
+    let p = Vec3::new(0.7, 0.1, 0.0);
+    let metal = 0.8 * 51.0 / 255.0;
+    let m = material_at(&f.scene(), 0, p);
+    assert_eq!(m.transmission, 0.0);
+    assert!((m.metallic - metal).abs() < 1e-6, "{}", m.metallic);
+    // Texel (0, 1), grey 128 at (0.2, 0.6): red 128/255, read linear.
+    let t = 0.5 * 128.0 / 255.0;
+    let m = material_at(&f.scene(), 0, Vec3::new(0.2, 0.6, 0.0));
+    assert!((m.transmission - t * (1.0 - metal)).abs() < 1e-6, "{}", m.transmission);
+    assert!((m.metallic - metal / (1.0 - t * (1.0 - metal))).abs() < 1e-6, "{}", m.metallic);
+    // Texel (0, 0), red 255: the factor itself.
+    let m = material_at(&f.scene(), 0, Vec3::new(0.1, 0.1, 0.0));
+    assert!((m.transmission - 0.5 * (1.0 - metal)).abs() < 1e-6, "{}", m.transmission);
+    // Without the metallic-roughness texture the metallic is the factor's 0.8.
+    f.material_textures[1].metallic_roughness = TextureRef::NONE;
+    let m = material_at(&f.scene(), 0, Vec3::new(0.2, 0.6, 0.0));
+    assert!((m.transmission - t * 0.2).abs() < 1e-6, "{}", m.transmission);
+    assert!((m.metallic - 0.8 / (1.0 - t * 0.2)).abs() < 1e-6, "{}", m.metallic);
 }
 
 /// `KHR_materials_clearcoat`'s textures: the intensity is the factor times the clearcoat
