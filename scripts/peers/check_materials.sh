@@ -9,7 +9,15 @@
 #     states the difference to expect between the two models before it is measured. The
 #     `specular` plate's KHR_materials_specular has a specularTexture and a specularColorTexture
 #     of one texel, TEXEL: Mitsuba takes the untextured plate whose factors are the products the
-#     spec defines (the alpha linear, the rgb sRGB-decoded), computed here.
+#     spec defines (the alpha linear, the rgb sRGB-decoded), computed here. The `transmission`
+#     plate is the red plastic with metallicFactor 0.6 and KHR_materials_transmission 0.9, its
+#     metallicRoughnessTexture and transmissionTexture that texel: Mitsuba takes the plate of
+#     the products (metallic × B, roughness × G, transmission × R, all linear), which its
+#     converter mixes as `blendbsdf` of the glTF BRDF and `thindielectric`; under the sun only
+#     the BRDF's share (1 − transmission (1 − metallic)) reflects. Mitsuba renders it with its
+#     `direct` integrator: 3.9.1's `path` renders that blend 46 % dark (its own `direct` and
+#     the BSDF's `eval` agree with each other; with `dielectric` or a conductor in place of
+#     `thindielectric`, whose straight passage is a null interaction, `path` agrees too).
 #  2. The `materials` scene (every lobe, a mirror included, under two area lamps): smlt's
 #     reference against Mitsuba with `smlt_gltf`.
 #   scripts/peers/check_materials.sh [OUT]   (default: /tmp/check-materials)
@@ -50,11 +58,20 @@ products = {"specularFactor": factor * texel[3] / 255,
             "specularColorFactor": [f * srgb(c / 255) for f, c in zip(color, texel)]}
 plate_scene.write("plate_specular_factors.gltf", "specular", plates["plastic"], {"KHR_materials_specular": products},
                   mapped=True)
+# The transmission plate: the metallic-roughness texture and the transmission texture the same
+# texel, and its untextured equal.
+pbr = dict(plates["plastic"], metallicFactor=0.6, metallicRoughnessTexture={"index": 0})
+glass = {"KHR_materials_transmission": {"transmissionFactor": 0.9, "transmissionTexture": {"index": 0}}}
+plate_scene.write("plate_transmission.gltf", "transmission", pbr, glass, mapped=True, texel=texel)
+pbr = dict(plates["plastic"], metallicFactor=0.6 * texel[2] / 255, roughnessFactor=0.3 * texel[1] / 255)
+glass = {"KHR_materials_transmission": {"transmissionFactor": 0.9 * texel[0] / 255}}
+plate_scene.write("plate_transmission_factors.gltf", "transmission", pbr, glass, mapped=True)
 PY
-for name in gold plastic satin defaults specular; do
+for name in gold plastic satin defaults specular transmission; do
     peer=$name
-    [ "$name" = specular ] && peer=specular_factors
+    [ "$name" = specular ] || [ "$name" = transmission ] && peer=${name}_factors
     "$smlt" reference "plate_$name.gltf" --device cpu --spp 1024 "${size[@]}" --out "ref_plate_$name.exr" | { grep -E "noise" || true; }
+    [ "$name" = transmission ] && continue
     python3 "$root/scripts/peers/mitsuba_peer.py" "plate_$peer.gltf" "${size[@]}" --variant llvm_ad_rgb \
         --reference "ref_plate_$name.exr" --converged 1024 --label "plate_$name" | tail -1
 done
@@ -70,12 +87,24 @@ mitsuba_gltf.register()
 w, h, depth = int(sys.argv[2]), int(sys.argv[4]), int(sys.argv[6])
 exact = lambda d, sun: plate_scene.exact_image(mi, d, sun, w, h)  # noqa: E731
 print("plate: smlt | smlt_gltf exact | principled exact, principled render (means; principled vs glTF expected, measured)")
-for name in ["gold", "plastic", "satin", "defaults", "specular"]:
-    scene = gltf_scene.load(f"plate_{name}_factors.gltf" if name == "specular" else f"plate_{name}.gltf")
+for name in ["gold", "plastic", "satin", "defaults", "specular", "transmission"]:
+    textured = name in ("specular", "transmission")
+    scene = gltf_scene.load(f"plate_{name}_factors.gltf" if textured else f"plate_{name}.gltf")
     mat, sun = scene.materials[1], scene.lights[0]
     with tempfile.TemporaryDirectory() as folder:
         d = mitsuba_peer.scene_dict(mi, scene, 1, w, h, depth, folder)
         gltf_img = exact(d, sun)
+        if name == "transmission":
+            # Mitsuba's `direct` render (see the header), and no principled: its transmission
+            # is another model again.
+            d["integrator"] = {"type": "direct"}
+            direct = np.array(mi.render(mi.load_dict(d), spp=1024))
+            ref = mitsuba_peer.read_exr(mi, f"ref_plate_{name}.exr")
+            rmse = float(np.sqrt(np.mean((direct - ref) ** 2)))
+            print(f"{name}: smlt {np.mean(ref):.5f} vs exact {np.mean(gltf_img):.5f} "
+                  f"({100 * (np.mean(ref) / np.mean(gltf_img) - 1):+.2f} %); Mitsuba `direct` "
+                  f"{np.mean(direct):.5f}, RMSE to smlt {rmse:.1e}")
+            continue
         key = [k for k in d if k.startswith("mesh")][0]
         d[key]["bsdf"] = {"type": "principled", "base_color": {"type": "rgb", "value": list(mat.albedo)},
                           "metallic": mat.metallic, "roughness": mat.alpha ** 0.5, "specular": 0.5}
