@@ -425,6 +425,16 @@ fn glass_passes_agree_on_device_and_cpu() {
     }
 }
 
+/// Through rough glass (`rough_glass_caustic`: a frosted solid ball and a frosted thin pane
+/// under a point lamp): the rough dielectric's refraction and a thin wall's mirrored reflection
+/// lobe, sampled and evaluated in every stage, connected to like any other surface.
+#[test]
+fn rough_glass_passes_agree_on_device_and_cpu() {
+    if let Some(gpu) = common::gpu_or_skip("rough_glass_passes_agree_on_device_and_cpu") {
+        difftest_both_estimators(gpu, &common::scenes::rough_glass_caustic(0.5));
+    }
+}
+
 /// Under the environment (`sky_scene`: a sky with a sun, a glass ball, a triangle lamp): camera
 /// subpaths that end on the environment, light subpaths that leave its disks, connections to
 /// it and their weights, and the path estimator's escapes.

@@ -74,7 +74,7 @@ class Material:
     ior: float = 1.5
     thin_walled: bool = True  # no KHR_materials_volume (or thicknessFactor 0)
     attenuation: tuple = (0.0, 0.0, 0.0)  # Beer-Lambert coefficient inside a solid, 1/m
-    alpha: float = 0.0  # GGX roughness, roughnessFactor^2: the BRDF's, and a solid glass's (thin walls stay smooth)
+    alpha: float = 0.0  # GGX roughness, roughnessFactor^2: the BRDF's, and the glass's (a solid's or a thin wall's)
     metallic: float = 0.0  # glTF's metallicFactor
     specular: float = 0.0  # KHR_materials_specular's specularFactor (1 without it)
     specular_color: tuple = (1.0, 1.0, 1.0)
@@ -107,7 +107,7 @@ class Material:
 
     @property
     def rough_glass(self):
-        return self.transmission > 0 and not self.thin_walled and self.alpha >= 1e-3
+        return self.transmission > 0 and self.alpha >= 1e-3
 
 
 @dataclass

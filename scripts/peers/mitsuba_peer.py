@@ -23,7 +23,8 @@ of the same radiometric values; glass (KHR_materials_transmission) -> `dielectri
 `roughdielectric` with `ggx` of the same alpha where it is rough;
 KHR_materials_volume, with a `homogeneous` purely absorbing interior medium and `volpath` where
 it attenuates) or `thindielectric` (thin-walled: Mitsuba sums the slab's inter-reflections,
-reflecting 2R/(1+R) where glTF's single interface reflects R), tinted by baseColor, blended
+reflecting 2R/(1+R) where glTF's single interface reflects R; a rough thin wall -> `smlt_thin`,
+a Python BSDF plugin written from the extension, `mitsuba_thin.py`), tinted by baseColor, blended
 with the BRDF rest by `blendbsdf` where transmissionFactor < 1; KHR_materials_clearcoat -> `smlt_coat`
 over the whole BSDF (`mitsuba_coat.py`, written from the extension); glTF's metallic-roughness BRDF
 otherwise -> `smlt_gltf`, a Python BSDF plugin written from the spec (`mitsuba_gltf.py`: Mitsuba
@@ -256,12 +257,14 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
         if mat.transmission > 0:
             glass = {"type": "thindielectric" if mat.thin_walled else "dielectric",
                      "int_ior": mat.ior, "ext_ior": 1.0, "specular_transmittance": rgb}
-            if mat.rough_glass:
+            if mat.rough_glass and mat.thin_walled:
+                glass = {"type": "smlt_thin", "alpha": mat.alpha, "ior": mat.ior, "tint": list(mat.albedo)}
+            elif mat.rough_glass:
                 glass.update({"type": "roughdielectric", "distribution": "ggx", "alpha": mat.alpha,
                               "sample_visible": True})
             if mat.transmission < 1:
                 glass = {"type": "blendbsdf", "weight": mat.transmission, "bsdf_0": bsdf, "bsdf_1": glass}
-                if mat.thin_walled:
+                if glass["bsdf_1"]["type"] == "thindielectric":
                     # Measured on 3.9.1 (check_materials.sh's transmission plate): `path` renders
                     # this blend 46 % dark; `direct` and the BSDF's `eval` agree with smlt.
                     print(f"warning: {mat.name}: Mitsuba's `path` renders blendbsdf with thindielectric dark",
@@ -361,6 +364,9 @@ def main():
     import mitsuba_coat
 
     mitsuba_coat.register()
+    import mitsuba_thin
+
+    mitsuba_thin.register()
     scene = gltf_scene.load(a.scene, rotation=a.texture_rotation)
     label = a.label or os.path.splitext(os.path.basename(a.scene))[0]
     reference = read_exr(mi, a.reference)

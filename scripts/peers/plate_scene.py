@@ -18,10 +18,11 @@ CORNERS = [(-8, 0, 8), (8, 0, 8), (8, 0, -8), (-8, 0, -8)]
 TO_SUN = (0.4, 1.0, 0.3)
 
 
-def _sun_rotation():
-    """The quaternion taking the node's −Z (where a glTF light shines) to the sun's direction."""
-    n = math.sqrt(sum(c * c for c in TO_SUN))
-    d = [-c / n for c in TO_SUN]
+def _sun_rotation(to_sun):
+    """The quaternion taking the node's −Z (where a glTF light shines) to the direction of a sun
+    that lies towards `to_sun`."""
+    n = math.sqrt(sum(c * c for c in to_sun))
+    d = [-c / n for c in to_sun]
     axis = [d[1], -d[0], 0.0]  # (−Z) × d
     s = math.sqrt(sum(c * c for c in axis))
     angle = math.acos(-d[2])
@@ -37,11 +38,12 @@ def _png(rgba):
             + chunk(b"IEND", b""))
 
 
-def write(path, name, pbr, extensions, mapped=False, texel=None):
+def write(path, name, pbr, extensions, mapped=False, texel=None, to_sun=TO_SUN):
     """Writes the plate of material `name` (its pbrMetallicRoughness `pbr` and material
     `extensions`) to `path`; `mapped`: with NORMAL (+Y) and TEXCOORD_0 (u along +x, v along +z,
     [0, 1] over the plate), the tangent frame of KHR_materials_anisotropy (FRAME); `texel`: the
-    8-bit RGBA of texture 0, 1 × 1 and nearest, for `extensions` to name."""
+    8-bit RGBA of texture 0, 1 × 1 and nearest, for `extensions` to name; `to_sun`: where the
+    sun lies (below the plate, y < 0, for a glass plate's transmission)."""
     data = b"".join(struct.pack("<3f", *v) for v in CORNERS) + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
     material = {"name": name, "pbrMetallicRoughness": pbr}
     if extensions:
@@ -57,7 +59,7 @@ def write(path, name, pbr, extensions, mapped=False, texel=None):
            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
            "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}],
            "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 1.2, 1.2], "rotation": [-0.38268343, 0, 0, 0.92387953]},
-                     {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": _sun_rotation()}]}
+                     {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": _sun_rotation(to_sun)}]}
     if mapped:
         extra = b"".join(struct.pack("<3f", 0, 1, 0) for _ in CORNERS)
         extra += b"".join(struct.pack("<2f", (x + 8) / 16, (z + 8) / 16) for x, _, z in CORNERS)

@@ -39,6 +39,13 @@
 //! [`reflection_probability`], the macro surface's Fresnel factor kept within [0.1, 0.9]: a
 //! choice made before the micro-normal, so that two uniforms a bounce suffice (pbrt-v4 draws a
 //! third to choose by F(wo·m)), and never 0 where either lobe can scatter.
+//!
+//! **A rough thin wall** (`KHR_materials_transmission` without `KHR_materials_volume`) does not
+//! bend light: its transmission is its reflection lobe seen through the surface, as the
+//! extension defines it — `f = D(m) G (1 − F(wo·m)) / (4 |cos θ_o cos θ_i|)` with m =
+//! normalize(wo + wi'), wi' the mirror image of wi in the surface's plane, tinted, without a
+//! 1/η² (the light leaves the wall as it entered) — and a transmission is sampled as a
+//! reflection mirrored through the plane ([`mirrored`]).
 #[cfg(target_arch = "spirv")]
 use spirv_std::num_traits::Float;
 
@@ -177,11 +184,11 @@ impl Material {
         self.clearcoat > 0.0 && self.clearcoat_alpha < SMOOTH_ALPHA
     }
 
-    /// Whether the material's dielectric share is rough (a solid's, of α ≥ [`SMOOTH_ALPHA`]):
-    /// its lobes are then not deltas.
+    /// Whether the material's dielectric share is rough (a solid's or a thin wall's, of α ≥
+    /// [`SMOOTH_ALPHA`]): its lobes are then not deltas.
     #[inline]
     pub fn is_rough_dielectric(&self) -> bool {
-        self.transmission > 0.0 && self.thin_walled == 0 && self.alphas().max_element() >= SMOOTH_ALPHA
+        self.transmission > 0.0 && self.alphas().max_element() >= SMOOTH_ALPHA
     }
 }
 
@@ -395,13 +402,30 @@ fn half_vector(wo: Vec3, wi: Vec3, eta: f32) -> HalfVector {
     HalfVector { m, transmits, found: true }
 }
 
+/// The mirror image of the local direction `w` in the surface's plane (z = 0): a thin wall's
+/// transmitted direction for a reflected one, and back.
+#[inline]
+pub fn mirrored(w: Vec3) -> Vec3 {
+    Vec3::new(w.x, w.y, -w.z)
+}
+
 /// The rough dielectric's f(wo, wi) (local, `wo.z` > 0; the module doc's formulas), without the
-/// transmission share or the tint, and whether the pair transmits; `radiance` divides
-/// transmission by η².
+/// transmission share or the tint, and whether the pair transmits; `radiance` divides a solid's
+/// transmission by η²; `thin`: a thin wall, whose transmission is its reflection through the
+/// plane.
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
-fn rough_dielectric_eval(alpha: Vec2, eta: f32, wo: Vec3, wi: Vec3, radiance: bool) -> (f32, bool) {
+fn rough_dielectric_eval(
+    alpha: Vec2,
+    eta: f32,
+    wo: Vec3,
+    wi: Vec3,
+    radiance: bool,
+    thin: bool,
+) -> (f32, bool) {
+    let passes = thin && wi.z < 0.0;
+    let wi = if passes { mirrored(wi) } else { wi };
     let h = half_vector(wo, wi, eta);
     if !h.found {
         return (0.0, false);
@@ -411,7 +435,8 @@ fn rough_dielectric_eval(alpha: Vec2, eta: f32, wo: Vec3, wi: Vec3, radiance: bo
     let g = crate::microfacet::smith_g(alpha, wo, wi);
     let f = fresnel_dielectric(wo.dot(m), eta);
     if !h.transmits {
-        return (d * g * f / (4.0 * wo.z * wi.z).abs(), false);
+        let reflected = d * g / (4.0 * wo.z * wi.z).abs();
+        return if passes { (reflected * (1.0 - f), true) } else { (reflected * f, false) };
     }
     let denom = wi.dot(m) + wo.dot(m) / eta;
     let mut ft = d * g * (1.0 - f) * (wi.dot(m) * wo.dot(m)).abs() / (wo.z * wi.z * denom * denom).abs();
@@ -422,19 +447,22 @@ fn rough_dielectric_eval(alpha: Vec2, eta: f32, wo: Vec3, wi: Vec3, radiance: bo
 }
 
 /// The rough dielectric's density of sampling `wi` from `wo` (local, `wo.z` > 0), without the
-/// transmission share.
+/// transmission share; `thin`: a thin wall's (a transmission is a mirrored reflection).
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
-fn rough_dielectric_pdf(alpha: Vec2, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
-    let h = half_vector(wo, wi, eta);
+fn rough_dielectric_pdf(alpha: Vec2, eta: f32, wo: Vec3, wi: Vec3, thin: bool) -> f32 {
+    let passes = thin && wi.z < 0.0;
+    let h = half_vector(wo, if passes { mirrored(wi) } else { wi }, eta);
     if !h.found {
         return 0.0;
     }
     let m = h.m;
     let visible = crate::microfacet::visible_normal_pdf(alpha, wo, m);
     let p_r = reflection_probability(wo.z, eta);
-    if h.transmits {
+    if passes {
+        visible / (4.0 * wo.dot(m)) * (1.0 - p_r)
+    } else if h.transmits {
         let denom = wi.dot(m) + wo.dot(m) / eta;
         visible * wi.dot(m).abs() / (denom * denom) * (1.0 - p_r)
     } else {
@@ -509,7 +537,7 @@ fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Ve
         let eta = relative_ior(m, n.geometric, wo);
         let frame = LobeFrame::new(ns, n.anisotropy);
         let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
-        let (f, transmits) = rough_dielectric_eval(m.alphas(), eta, wo_l, wi_l, radiance);
+        let (f, transmits) = rough_dielectric_eval(m.alphas(), eta, wo_l, wi_l, radiance, m.thin_walled != 0);
         let tint = if transmits { Vec3::from_array(m.albedo) } else { Vec3::ONE };
         return tint * (t * f) + brdf_eval(m, n, ns, wo, wi) * (1.0 - t);
     }
@@ -599,7 +627,7 @@ fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
         let eta = relative_ior(m, n.geometric, wo);
         let frame = LobeFrame::new(ns, n.anisotropy);
         let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
-        let rough = t * rough_dielectric_pdf(m.alphas(), eta, wo_l, wi_l);
+        let rough = t * rough_dielectric_pdf(m.alphas(), eta, wo_l, wi_l, m.thin_walled != 0);
         return rough + (1.0 - t) * brdf_pdf(m, n, ns, wo, wi);
     }
     if t > 0.0 {
@@ -702,6 +730,10 @@ fn dielectric_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radi
         let micro = frame.from_local(ml);
         let wi = if reflects {
             reflect(wo, micro)
+        } else if m.thin_walled != 0 {
+            // Through a thin wall: the reflection, mirrored through the plane.
+            let r = reflect(wo, micro);
+            r - ns * (2.0 * ns.dot(r))
         } else {
             match refract(wo, micro, eta) {
                 Some(wi) => wi,

@@ -128,8 +128,9 @@ pub fn bent_floor() -> SceneData {
 }
 
 /// A frosted glass ball (a rough dielectric, roughness `roughness`, α its square) on a floor
-/// before a wall, lit by a point lamp above it: its caustic, light through rough glass onto the
-/// floor, every method renders, the path tracer by light sampling at the glass.
+/// before a wall and a frosted thin pane of the same roughness (a thin wall, tinted) held level
+/// beside it, lit by a point lamp above them: their caustics, light through rough glass onto
+/// the floor, every method renders, the path tracer by light sampling at the glass.
 #[allow(dead_code)]
 pub fn rough_glass_caustic(roughness: f32) -> SceneData {
     let mut b = GltfBuilder::new();
@@ -138,6 +139,10 @@ pub fn rough_glass_caustic(roughness: f32) -> SceneData {
     b.roughness(glass, roughness);
     let v = Vec3::new;
     b.sphere(glass, v(0.0, 0.5, -0.5), 0.5, 10);
+    let pane = b.glass("frosted pane", [0.9, 0.8, 0.6], 1.5, false);
+    b.roughness(pane, roughness);
+    let q = [v(-1.3, 0.9, -1.0), v(-0.6, 0.9, -1.0), v(-0.6, 0.9, -0.2), v(-1.3, 0.9, -0.2)];
+    b.quad(pane, smlt::scenes::facing(q, Vec3::Y));
     b.point_light(v(0.3, 2.0, -0.5), [1.0; 3], 2000.0);
     b.camera(v(0.0, 1.2, 2.5), v(0.0, 0.3, -0.5), Vec3::Y, 45f32.to_radians());
     SceneData::from_slice(b.to_json().as_bytes(), "rough glass caustic").expect("rough glass caustic")

@@ -311,7 +311,7 @@ fn read_material(
             })? as f32;
         }
     }
-    let glass = read_glass(m, &label, warnings, name)?;
+    let glass = read_glass(m, &label, name)?;
     let coat = read_clearcoat(m, store, source, &at, warnings)?;
     if coat.factor > 0.0 && e[0].max(e[1]).max(e[2]) * strength > 0.0 {
         warnings.push(format!(
@@ -540,15 +540,9 @@ fn read_alpha(
 /// spec defines it: the `transmissionFactor` share of the material is a smooth dielectric of
 /// index `ior`, thin-walled without `KHR_materials_volume` (or with thicknessFactor 0), the
 /// boundary of a solid with it, attenuating by Beer–Lambert with −ln(attenuationColor) /
-/// attenuationDistance. A thin wall's rough transmission is rendered smooth, with a warning.
-/// (The transmissionTexture, which multiplies the factor point by point, is the material
+/// attenuationDistance. (The transmissionTexture, which multiplies the factor point by point, is the material
 /// textures', `shared::surface`.)
-fn read_glass(
-    m: &gltf::Material,
-    label: &str,
-    warnings: &mut Vec<String>,
-    name: &str,
-) -> Result<Material, SceneError> {
+fn read_glass(m: &gltf::Material, label: &str, name: &str) -> Result<Material, SceneError> {
     let at = m.index().map(|i| format!("materials[{i}].extensions")).unwrap_or_else(|| label.to_string());
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}.{what}") };
     let mut glass = Material { ior: 1.5, thin_walled: 1, ..Default::default() };
@@ -593,12 +587,8 @@ fn read_glass(
             }
         }
     }
-    // A solid's interface is as rough as the material (GGX, α = roughness², set by the
-    // caller); a thin wall's rough passage is not modelled.
-    let roughness = m.pbr_metallic_roughness().roughness_factor();
-    if factor > 0.0 && roughness > 0.0 && glass.thin_walled != 0 {
-        warnings.push(format!("{label}: a thin wall's rough transmission is rendered smooth"));
-    }
+    // The interface is as rough as the material (GGX, α = roughness², set by the caller): a
+    // solid's refracts, a thin wall's passes light through unbent (`shared::bsdf`).
     Ok(glass)
 }
 

@@ -254,6 +254,12 @@ fn rough_glass(alpha: f32, t: f32) -> Material {
     Material { alpha, ..glass(t, true) }
 }
 
+/// A rough thin wall (no `KHR_materials_volume`): its transmission is its reflection lobe seen
+/// through the plane.
+fn rough_thin(alpha: f32, t: f32) -> Material {
+    Material { alpha, ..glass(t, false) }
+}
+
 /// The directions of a rough dielectric's test: from outside (n = +Y side) and from inside,
 /// at normal, oblique and grazing incidence.
 fn rough_cases() -> Vec<(f32, Vec3)> {
@@ -266,14 +272,17 @@ fn rough_cases() -> Vec<(f32, Vec3)> {
     cases
 }
 
-/// A rough dielectric's samples report what eval and pdf give for their direction, are never
-/// deltas, reflect on wo's side or transmit to the other, and the density integrates to the
-/// share of samples that succeed (the rest failed: a refraction beyond the critical angle of
-/// its micro-normal), checked by quadrature over the sphere.
+/// A rough dielectric's samples (a solid's and a thin wall's) report what eval and pdf give for
+/// their direction, are never deltas, reflect on wo's side or transmit to the other, and the
+/// density integrates to the share of samples that succeed (the rest failed: a refraction
+/// beyond the critical angle of its micro-normal, a reflection below the surface), checked by
+/// quadrature over the sphere.
 #[test]
 fn rough_dielectric_samples_match_eval_and_pdf() {
     let n = Vec3::Y;
-    let cases = rough_cases().into_iter().map(|(alpha, wo)| (rough_glass(alpha, 1.0), wo));
+    let cases = rough_cases()
+        .into_iter()
+        .flat_map(|(alpha, wo)| [(rough_glass(alpha, 1.0), wo), (rough_thin(alpha, 1.0), wo)]);
     // Anisotropic (strength 0.8 turned 0.6 rad from an arbitrary frame's x: the lobe's density
     // does not depend on which).
     let turned = [0.8 * 0.6f32.cos(), 0.8 * 0.6f32.sin()];
@@ -323,15 +332,20 @@ fn rough_dielectric_samples_match_eval_and_pdf() {
     }
 }
 
-/// χ² of a rough dielectric's sampled directions against its density, over 20 × 12 bins
+/// χ² of a rough dielectric's (a solid's, a thin wall's) sampled directions against its density, over 20 × 12 bins
 /// uniform in cos θ about n (both hemispheres) and φ, the bins' probabilities by a midpoint
 /// rule inside each.
 #[test]
 fn rough_dielectric_sampling_follows_its_density() {
     let n = Vec3::Y;
     let (t, b) = orthonormal_basis(n);
-    for (alpha, wo) in [(0.25f32, Vec3::new(0.6, 0.8, 0.0)), (0.7, Vec3::new(0.9, -0.4, 0.1).normalize())] {
-        let m = rough_glass(alpha, 1.0);
+    let thin = |alpha, wo| (rough_thin(alpha, 1.0), alpha, wo);
+    for (m, alpha, wo) in [
+        (rough_glass(0.25, 1.0), 0.25f32, Vec3::new(0.6, 0.8, 0.0)),
+        (rough_glass(0.7, 1.0), 0.7, Vec3::new(0.9, -0.4, 0.1).normalize()),
+        thin(0.25, Vec3::new(0.6, 0.8, 0.0)),
+        thin(0.7, Vec3::new(0.9, -0.4, 0.1).normalize()),
+    ] {
         let samples = 200_000u32;
         let (nc, np) = (20usize, 12usize);
         let mut counts = vec![0u32; nc * np];
@@ -378,14 +392,15 @@ fn rough_dielectric_sampling_follows_its_density() {
 }
 
 /// The adjoint is the transpose: f for importance from wo to wi is f for radiance from wi to
-/// wo (Veach's §5.2), on reflection and transmission pairs alike; and a lossless rough glass
+/// wo (Veach's §5.2), on reflection and transmission pairs alike, solid or thin; and a lossless rough glass
 /// scatters at most what arrives — close to all of it when smooth-ish (single scattering loses
 /// what bounces between micro-facets), less in radiance by 1/η² entering.
 #[test]
 fn rough_dielectric_adjoint_and_energy() {
     let n = Vec3::Y;
-    for (alpha, wo) in rough_cases() {
-        let m = rough_glass(alpha, 1.0);
+    for (m, (alpha, wo)) in
+        rough_cases().into_iter().flat_map(|c| [(rough_glass(c.0, 1.0), c), (rough_thin(c.0, 1.0), c)])
+    {
         for i in 0..2000 {
             let wi = crate::punctual::uniform_sphere(u2(i, 70));
             let a = bsdf_eval(&m, Normals::flat(n), wo, wi, false);
@@ -407,6 +422,59 @@ fn rough_dielectric_adjoint_and_energy() {
         if alpha <= 0.05 && wo.y.abs() > 0.5 {
             assert!(albedo > 0.97, "α {alpha} wo {wo}: albedo {albedo}");
         }
+    }
+}
+
+/// A rough thin wall's transmission is its reflection lobe through the plane, as
+/// `KHR_materials_transmission` defines it: f(wo, wi) for wi below is the tint × (1 − F) share of
+/// the GGX reflection f(wo, wi') (wi' = wi mirrored), F the Fresnel factor at wo·m; light passes
+/// unbent on average (a narrow lobe about −wo); and a smooth thin wall stays a delta.
+#[test]
+fn a_rough_thin_wall_passes_its_reflection_lobe_through() {
+    let n = Vec3::Z;
+    let m = Material { albedo: [0.9, 0.6, 0.3], ..rough_thin(0.2, 1.0) };
+    assert!(m.is_rough_dielectric() && !m.has_delta_lobe());
+    assert!(rough_thin(SMOOTH_ALPHA * 0.5, 1.0).has_delta_lobe());
+    for (i, wo) in
+        [Vec3::new(0.3, 0.1, 0.9), Vec3::new(-0.7, 0.2, 0.3), Vec3::new(0.1, 0.0, -0.8)].iter().enumerate()
+    {
+        let wo = wo.normalize();
+        let side = wo.z.signum();
+        for k in 0..200 {
+            let wi = crate::punctual::uniform_sphere(u2(k, 80 + i as u32));
+            if wi.z * side >= 0.0 {
+                continue;
+            }
+            // In the frame of the side wo lies on.
+            let (wo_l, wi_l) = (wo * side, wi * side);
+            let h = (wo_l + mirrored(wi_l)).normalize();
+            let f_fresnel = fresnel_dielectric(wo_l.dot(h), 1.5);
+            let reflected = crate::microfacet::ggx_d(Vec2::splat(0.2), h)
+                * crate::microfacet::smith_g(Vec2::splat(0.2), wo_l, mirrored(wi_l))
+                / (4.0 * wo_l.z * wi_l.z).abs();
+            let expected = Vec3::new(0.9, 0.6, 0.3) * reflected * (1.0 - f_fresnel);
+            for radiance in [true, false] {
+                let f = bsdf_eval(&m, Normals::flat(n), wo, wi, radiance);
+                assert!(
+                    (f - expected).abs().max_element() <= 1e-4 * expected.max_element() + 1e-7,
+                    "{f} vs {expected}"
+                );
+            }
+        }
+        // Away from grazing, its transmitted samples of a narrow lobe average to −wo: the light
+        // goes on as it came (at grazing angles the lobe's shadowing and the samples below the
+        // plane skew its mean).
+        if wo.z.abs() < 0.5 {
+            continue;
+        }
+        let mut mean = Vec3::ZERO;
+        for k in 0..20_000 {
+            let s = bsdf_sample(&rough_thin(0.05, 1.0), Normals::flat(n), wo, u2(k, 90), true);
+            if s.pdf > 0.0 && s.wi.z * side < 0.0 {
+                mean += s.wi;
+            }
+        }
+        assert!((mean.normalize() - (-wo)).length() < 0.02, "{} vs {}", mean.normalize(), -wo);
     }
 }
 
