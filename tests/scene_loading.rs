@@ -1460,30 +1460,39 @@ fn anisotropy_reads_as_the_spec_defines_it_and_bad_values_are_refused() {
     assert!(err.contains("materials[0].extensions.KHR_materials_anisotropy: 5 is not an object"), "{err}");
 }
 
+/// [`textured_floor_doc`]'s floor of one texel (192, 237, 100, 128), without its normal texture,
+/// whose material has extension `name` of value `value`.
+fn floor_with_extension(name: &str, value: Value) -> Value {
+    let mut doc = textured_floor_doc([192, 237, 100, 128], 1.0, true);
+    let material = &mut doc["materials"][0];
+    material.as_object_mut().unwrap().remove("normalTexture");
+    material["extensions"] = json!({ name: value });
+    doc["extensionsUsed"] = json!([name, "KHR_lights_punctual"]);
+    doc
+}
+
+/// The material of [`floor_with_extension`]'s floor at (0.3, 0, −0.2).
+fn floor_material(scene: &SceneData) -> Material {
+    let shared_scene = scene.shared();
+    let p = Vec3::new(0.3, 0.0, -0.2);
+    let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT, 0);
+    shared::surface::material_at(&shared_scene, hit.triangle, p)
+}
+
 /// `KHR_materials_specular`'s textures read as the spec defines them: specularTexture's alpha
 /// (linear) multiplies specularFactor, specularColorTexture's rgb (sRGB-decoded) multiplies
 /// specularColorFactor, each at the point's own coordinates; a reference to no texture is
 /// refused by its path.
 #[test]
 fn specular_textures_multiply_their_factors() {
-    let doc = |specular: Value| {
-        let mut doc = textured_floor_doc([192, 237, 100, 128], 1.0, true);
-        let material = &mut doc["materials"][0];
-        material.as_object_mut().unwrap().remove("normalTexture");
-        material["extensions"] = json!({ "KHR_materials_specular": specular });
-        doc["extensionsUsed"] = json!(["KHR_materials_specular", "KHR_lights_punctual"]);
-        doc
-    };
+    let doc = |specular: Value| floor_with_extension("KHR_materials_specular", specular);
     let spec = json!({"specularFactor": 0.5, "specularTexture": {"index": 0},
         "specularColorFactor": [1.0, 0.5, 0.25], "specularColorTexture": {"index": 0}});
     let scene = load(&doc(spec)).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let t = scene.material_textures[scene.materials[1].textures as usize];
     assert!(t.specular.is_some() && t.specular_color.is_some());
-    let shared_scene = scene.shared();
-    let p = Vec3::new(0.3, 0.0, -0.2);
-    let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT, 0);
-    let m = shared::surface::material_at(&shared_scene, hit.triangle, p);
+    let m = floor_material(&scene);
     assert!((m.specular - 0.5 * 128.0 / 255.0).abs() < 1e-6, "{}", m.specular);
     let decoded = [192.0f32, 237.0, 100.0].map(|c| shared::texture::srgb_to_linear(c / 255.0));
     let expected = [decoded[0], 0.5 * decoded[1], 0.25 * decoded[2]];
@@ -1504,25 +1513,15 @@ fn specular_textures_multiply_their_factors() {
 #[test]
 fn a_transmission_texture_scales_the_glass_share() {
     let doc = |transmission: Value| {
-        let mut doc = textured_floor_doc([192, 237, 100, 128], 1.0, true);
-        let material = &mut doc["materials"][0];
-        material.as_object_mut().unwrap().remove("normalTexture");
-        material["pbrMetallicRoughness"]["roughnessFactor"] = json!(0.0);
-        material["pbrMetallicRoughness"]["metallicFactor"] = json!(0.6);
-        material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({"index": 0});
-        material["extensions"] = json!({ "KHR_materials_transmission": transmission });
-        doc["extensionsUsed"] = json!(["KHR_materials_transmission", "KHR_lights_punctual"]);
+        let mut doc = floor_with_extension("KHR_materials_transmission", transmission);
+        let pbr = &mut doc["materials"][0]["pbrMetallicRoughness"];
+        pbr["metallicFactor"] = json!(0.6);
+        pbr["metallicRoughnessTexture"] = json!({"index": 0});
         doc
-    };
-    let at_point = |scene: &SceneData| {
-        let shared_scene = scene.shared();
-        let p = Vec3::new(0.3, 0.0, -0.2);
-        let hit = shared_scene.caster.closest_hit(p + Vec3::Y, -Vec3::Y, 0.0, NO_HIT, 0);
-        shared::surface::material_at(&shared_scene, hit.triangle, p)
     };
     let scene = load(&doc(json!({"transmissionFactor": 0.9, "transmissionTexture": {"index": 0}}))).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let m = at_point(&scene);
+    let m = floor_material(&scene);
     let (metallic, transmission) = (0.6 * 100.0 / 255.0, 0.9 * 192.0 / 255.0);
     let glass = transmission * (1.0 - metallic);
     assert!((m.transmission - glass).abs() < 1e-6, "{} against {glass}", m.transmission);
@@ -1532,7 +1531,7 @@ fn a_transmission_texture_scales_the_glass_share() {
     let pbr = &mut products["materials"][0]["pbrMetallicRoughness"];
     pbr.as_object_mut().unwrap().remove("metallicRoughnessTexture");
     pbr["metallicFactor"] = json!(metallic);
-    let untextured = at_point(&load(&products).unwrap());
+    let untextured = floor_material(&load(&products).unwrap());
     assert!(
         (m.transmission - untextured.transmission).abs() < 1e-6
             && (m.metallic - untextured.metallic).abs() < 1e-6
@@ -1540,7 +1539,7 @@ fn a_transmission_texture_scales_the_glass_share() {
     // No factor: nothing to multiply, the texture is not read.
     let off = load(&doc(json!({"transmissionFactor": 0.0, "transmissionTexture": {"index": 0}}))).unwrap();
     assert!(!off.material_textures[off.materials[1].textures as usize].transmission.is_some());
-    assert_eq!(at_point(&off).transmission, 0.0);
+    assert_eq!(floor_material(&off).transmission, 0.0);
     let err = load(&doc(json!({"transmissionFactor": 0.5, "transmissionTexture": {"index": 7}})))
         .unwrap_err()
         .to_string();
