@@ -30,7 +30,9 @@ What is set after the import, so that Cycles renders what smlt renders:
   importer's Principled BSDF with single-scattering GGX (glTF's; the importer makes
   multiscatter), which is Cycles' model, not glTF's BRDF (said in the notes); a material with
   smlt's Phong lobe (`extras.smlt_phong_exponent`, the generated banners) is refused: the
-  importer reads it as Lambert and Cycles has no Phong closure;
+  importer reads it as Lambert and Cycles has no Phong closure; so is a rough thin wall of
+  glass (roughness² ≥ 1e-3 without KHR_materials_volume), which passes smlt's reflection lobe
+  mirrored through the plane, a closure Cycles lacks;
 - emission one-sided, as smlt's emissive triangles (Cycles' emission is two-sided): the
   strength times (1 - Backfacing);
 - solid glass (KHR_materials_volume thicknessFactor > 0): the importer's Principled BSDF with
@@ -39,7 +41,7 @@ What is set after the import, so that Cycles renders what smlt renders:
   the importer's Volume Absorption gets Cycles' sigma = density (1 - colour) equal to glTF's
   sigma = -ln(attenuationColor) / attenuationDistance (the importer sets colour =
   attenuationColor, density = 1 / distance, which is not glTF's Beer-Lambert law);
-- thin-walled glass (no volume): Cycles has none, so a Mix of Transparent BSDF (the tint)
+- smooth thin-walled glass (no volume): Cycles has none, so a Mix of Transparent BSDF (the tint)
   and a sharp Glossy BSDF by the Fresnel factor of one interface of the glTF ior from either
   side (the Fresnel node's IOR input is swapped on back faces, where Cycles uses 1 / IOR),
   straight through as glTF's thin wall. A Transparent BSDF lets Cycles' shadow rays through,
@@ -139,6 +141,12 @@ def fix_materials(bpy, doc, notes):
         ior = float(ext.get("KHR_materials_ior", {}).get("ior", 1.5))
         volume = ext.get("KHR_materials_volume")
         thin = volume is None or volume.get("thicknessFactor", 0.0) <= 0
+        roughness = float(spec.get("pbrMetallicRoughness", {}).get("roughnessFactor", 1.0))
+        if t > 0 and thin and roughness ** 2 >= 1e-3:
+            # smlt's rough thin wall passes its reflection lobe mirrored through the plane (the
+            # extension's thin-walled BTDF); Cycles has no such closure.
+            raise SystemExit(f"material {mat.name!r}: a rough thin wall of glass (roughness {roughness:g}),"
+                             " which Cycles cannot render")
         if principled.inputs["Emission Strength"].default_value > 0 and max(spec.get("emissiveFactor", [0, 0, 0])) > 0:
             geometry = nt.nodes.new("ShaderNodeNewGeometry")
             front = nt.nodes.new("ShaderNodeMath")  # strength x (1 - backfacing)
