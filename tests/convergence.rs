@@ -580,15 +580,19 @@ fn every_method_converges_to_the_same_image_under_a_clear_coat() {
 
 /// Every method converges to the same image on textures (`textured_scene`: a NEAREST checker,
 /// bilinear bands through a texture transform, a metallic-roughness texture striping a ball
-/// into dielectric and metal, a transmission texture making stripes of it glass, and an area lamp whose emission is a texture): the path tracer,
-/// s3, rc4 and the path estimator agree with naive block by block — each looks a vertex's
-/// material up where it shades it (light sampling, the subpaths, the connection's weights).
+/// into dielectric and metal, a transmission texture making stripes of it rough thin glass, and
+/// an area lamp whose emission is a texture): the path tracer, s3, rc4 and the path estimator
+/// agree with naive block by block — each looks a vertex's material up where it shades it
+/// (light sampling, the subpaths, the connection's weights). rc4 runs 4× longer for its
+/// start-up bias: with the glass stripes its worst block was |z| 4.37 after 256 mutations per
+/// pixel, 3.56 after 1024.
 #[test]
 fn every_method_converges_to_the_same_image_on_textures() {
     let scene = textured_scene();
     let naive = replica_blocks(&scene, &settings(32, 6, 256.0, 4096, 1 << 17), 210, 5);
     for name in ["pt", "s3", "rc4", "path-naive"] {
-        let mut s = settings(32, 6, 256.0, 4096, 1 << 17);
+        let mpp = if name == "rc4" { 1024.0 } else { 256.0 };
+        let mut s = settings(32, 6, mpp, 4096, 1 << 17);
         use_method(&mut s, name);
         let runs = replica_blocks(&scene, &s, 220, 5);
         let worst = stats::assert_blocks_agree(&format!("textures: naive vs {name}"), &naive, &runs);
