@@ -328,8 +328,8 @@ pub fn coated_scene(point: bool) -> SceneData {
 /// dielectric, rough metal and a glossier half metal (bilinear), whose transmissionTexture (the
 /// same image's red) makes much of the dielectric and some of the half metal a thin wall of
 /// glass, and whose normal texture ridges it (bilinear, in MikkTSpace's vertex tangents), and
-/// an area lamp whose
-/// emissiveTexture is a bright frame round a dim centre (NEAREST, CLAMP_TO_EDGE).
+/// an area lamp whose emissiveTexture is a bright frame round a dim centre (NEAREST,
+/// CLAMP_TO_EDGE).
 #[allow(dead_code)]
 pub fn textured_scene() -> SceneData {
     use serde_json::json;

@@ -11,10 +11,10 @@
 //!   primitive one Draco stream (`KHR_draco_mesh_compression`: `draco`);
 //! - materials: glTF's metallic-roughness BRDF (`baseColorFactor`, `metallicFactor`,
 //!   `roughnessFactor`, `KHR_materials_specular`, `KHR_materials_ior`), glass
-//!   (`KHR_materials_transmission` with its texture, `_volume`), the clear coat (`KHR_materials_clearcoat`, its
-//!   textures and normal texture, read from the JSON: `read`); `emissiveFactor` ×
-//!   `KHR_materials_emissive_strength` → emission (one-sided, along the triangle's
-//!   counter-clockwise normal); the Phong exponent from the material's extras, key
+//!   (`KHR_materials_transmission` with its texture, `_volume`), the clear coat
+//!   (`KHR_materials_clearcoat`, its textures and normal texture, read from the JSON: `read`);
+//!   `emissiveFactor` × `KHR_materials_emissive_strength` → emission (one-sided, along the
+//!   triangle's counter-clockwise normal); the Phong exponent from the material's extras, key
 //!   [`PHONG_EXPONENT_KEY`] (absent or 0: the BRDF); base colour, metallic-roughness,
 //!   emissive and normal textures (`textures`; PNG, JPEG, WebP with `EXT_texture_webp`, KTX2
 //!   with `KHR_texture_basisu`), a normal texture in the mesh's `TANGENT`s or MikkTSpace's

@@ -537,11 +537,11 @@ fn read_alpha(
 }
 
 /// The dielectric of a material (`KHR_materials_transmission`, `_ior`, `_volume`) as the
-/// spec defines it: the `transmissionFactor` share of the material is a smooth dielectric of
-/// index `ior`, thin-walled without `KHR_materials_volume` (or with thicknessFactor 0), the
-/// boundary of a solid with it, attenuating by Beer–Lambert with −ln(attenuationColor) /
-/// attenuationDistance. (The transmissionTexture, which multiplies the factor point by point, is the material
-/// textures', `shared::surface`.)
+/// spec defines it: the `transmissionFactor` share of the material is a dielectric of index
+/// `ior`, thin-walled without `KHR_materials_volume` (or with thicknessFactor 0), the boundary
+/// of a solid with it, attenuating by Beer–Lambert with −ln(attenuationColor) /
+/// attenuationDistance. (The transmissionTexture, which multiplies the factor point by point,
+/// is the material textures', `shared::surface`.)
 fn read_glass(m: &gltf::Material, label: &str, name: &str) -> Result<Material, SceneError> {
     let at = m.index().map(|i| format!("materials[{i}].extensions")).unwrap_or_else(|| label.to_string());
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}.{what}") };
