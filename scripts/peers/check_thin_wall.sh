@@ -56,7 +56,9 @@ for roughness in ["0.3", "0.6"]:
         with tempfile.TemporaryDirectory() as folder:
             d = mitsuba_peer.scene_dict(mi, scene, 1, w, h, depth, folder)
             key = [k for k in d if k.startswith("mesh")][0]
-            smooth = d[key]["bsdf"]
+            # The smooth wall (what smlt rendered before): Mitsuba's own thin dielectric.
+            smooth = {"type": "thindielectric", "int_ior": mat.ior, "ext_ior": 1.0,
+                      "specular_transmittance": {"type": "rgb", "value": list(mat.albedo)}}
             d[key]["bsdf"] = {"type": "smlt_thin", "alpha": float(roughness) ** 2, "ior": mat.ior,
                               "tint": list(mat.albedo)}
             exact = plate_scene.exact_image(mi, d, light, w, h)
