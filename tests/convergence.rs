@@ -521,8 +521,8 @@ fn every_method_converges_to_the_same_image_through_glass() {
 
 /// Every method converges to the same image through rough glass (a GGX dielectric, α 0.16 and
 /// 0.49: a solid ball and a thin pane): under a point lamp, whose caustic through rough glass
-/// the path tracer renders by light sampling at the glass, s3, the path tracer and the path estimator agree with naive
-/// block by block (within 5 standard errors).
+/// the path tracer renders by light sampling at the glass, s3, the path tracer and the path
+/// estimator agree with naive block by block (within 5 standard errors).
 #[test]
 fn every_method_converges_to_the_same_image_through_rough_glass() {
     for roughness in [0.4f32, 0.7] {
