@@ -1546,6 +1546,51 @@ fn a_transmission_texture_scales_the_glass_share() {
     assert!(err.contains("transmissionTexture"), "{err}");
 }
 
+/// `KHR_materials_sheen` reads as the spec defines it: sheenColorFactor and
+/// sheenRoughnessFactor into the material (`shared::sheen`), sheenColorTexture's rgb
+/// (sRGB-decoded) multiplying the colour and sheenRoughnessTexture's alpha (linear) the
+/// roughness, each at the point; black turns the layer off and leaves its textures unread;
+/// the extension may be required, and values outside [0, 1] or a reference to no texture are
+/// refused by their paths.
+#[test]
+fn the_sheen_reads_its_factors_and_textures() {
+    let doc = |sheen: Value| floor_with_extension("KHR_materials_sheen", sheen);
+    let plain =
+        load(&doc(json!({"sheenColorFactor": [0.9, 0.5, 0.2], "sheenRoughnessFactor": 0.4}))).unwrap();
+    assert!(plain.warnings.is_empty(), "{:?}", plain.warnings);
+    let m = plain.materials[1];
+    assert_eq!((m.sheen_color, m.sheen_roughness), ([0.9, 0.5, 0.2], 0.4));
+    let textured = json!({"sheenColorFactor": [1.0, 0.5, 0.25], "sheenColorTexture": {"index": 0},
+        "sheenRoughnessFactor": 0.8, "sheenRoughnessTexture": {"index": 0}});
+    let scene = load(&doc(textured)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let m = floor_material(&scene);
+    let decoded = [192.0f32, 237.0, 100.0].map(|c| shared::texture::srgb_to_linear(c / 255.0));
+    let expected = [decoded[0], 0.5 * decoded[1], 0.25 * decoded[2]];
+    assert!(m.sheen_color.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-6), "{:?}", m.sheen_color);
+    assert!((m.sheen_roughness - 0.8 * 128.0 / 255.0).abs() < 1e-6, "{}", m.sheen_roughness);
+    // Black: no layer, the textures unread.
+    let off = load(&doc(json!({"sheenRoughnessFactor": 0.5, "sheenColorTexture": {"index": 0}}))).unwrap();
+    assert!(!off.materials[1].has_sheen());
+    assert!(!off.material_textures[off.materials[1].textures as usize].sheen_color.is_some());
+    // Blender marks it required where a lamp is; smlt reads it.
+    let mut required = doc(json!({"sheenColorFactor": [1.0, 1.0, 1.0]}));
+    required["extensionsRequired"] = json!(["KHR_materials_sheen"]);
+    assert!(load(&required).unwrap().materials[1].has_sheen());
+    for (sheen, names) in [
+        (json!({"sheenColorFactor": [1.2, 0.0, 0.0]}), "sheenColorFactor"),
+        (json!({"sheenColorFactor": [1.0, 0.0]}), "sheenColorFactor"),
+        (json!({"sheenRoughnessFactor": -0.1}), "sheenRoughnessFactor"),
+        (
+            json!({"sheenColorFactor": [1.0, 1.0, 1.0], "sheenRoughnessTexture": {"index": 7}}),
+            "sheenRoughnessTexture",
+        ),
+    ] {
+        let err = load(&doc(sheen)).unwrap_err().to_string();
+        assert!(err.contains(names) && err.contains("KHR_materials_sheen"), "{err}");
+    }
+}
+
 /// `KHR_materials_anisotropy`'s anisotropyTexture reads as the spec defines it: the texel's red
 /// and green, 2 c − 1, are the direction in the tangent frame, turned by anisotropyRotation;
 /// its blue multiplies anisotropyStrength (linear, no sRGB decoding). Without strength the

@@ -2,7 +2,8 @@
 //! (`crate::metallic_roughness`; Lambertian where its dielectric layer is off), a normalised
 //! Phong lobe (the paper's banner), a dielectric (glTF's transmission: glass, thin-walled or
 //! solid; smooth, or rough with a GGX microfacet BSDF), and emission (area lights are emissive
-//! triangles); over any of them, glTF's clear coat (`crate::clearcoat`).
+//! triangles); over any of them glTF's sheen (`crate::sheen`), and over that glTF's clear coat
+//! (`crate::clearcoat`).
 //!
 //! Surfaces are two-sided for scattering: the BSDF works on the side that `wo` lies on, and
 //! `wo` and `wi` on opposite sides give 0 except through a dielectric: a smooth one's delta
@@ -55,6 +56,7 @@ use glam::{Vec2, Vec3};
 use crate::clearcoat as coat;
 use crate::metallic_roughness::{self as brdf, MetallicRoughness};
 pub use crate::normals::Normals;
+use crate::sheen;
 
 /// A material (uploaded to the device as it is).
 #[repr(C)]
@@ -104,6 +106,11 @@ pub struct Material {
     /// bitangent), which `crate::surface::normals_at` turns into `Normals::anisotropy`; zero:
     /// isotropic ([`Material::alphas`]).
     pub anisotropy: [f32; 2],
+    /// `KHR_materials_sheen`'s sheenColorFactor: the sheen layer's colour over the material
+    /// beneath the coat (`crate::sheen`); zero: no sheen.
+    pub sheen_color: [f32; 3],
+    /// The sheen's roughness r (sheenRoughnessFactor; the layer's α is r², `crate::sheen::alpha`).
+    pub sheen_roughness: f32,
 }
 
 /// The roughness α below which a dielectric is smooth: a GGX lobe that narrow is a mirror to
@@ -176,6 +183,24 @@ impl Material {
         let glass = self.transmission > 0.0 && !self.is_rough_dielectric();
         let mirror = self.transmission < 1.0 && self.phong_exponent == 0.0 && self.brdf().has_mirror();
         glass || mirror || self.has_smooth_coat()
+    }
+
+    /// Whether the material has a sheen layer (`crate::sheen`): a sheen colour not black.
+    #[inline]
+    pub fn has_sheen(&self) -> bool {
+        self.sheen_color[0] > 0.0 || self.sheen_color[1] > 0.0 || self.sheen_color[2] > 0.0
+    }
+
+    /// The sheen colour's largest channel (the extension's `max3(sheenColor)`).
+    #[inline]
+    pub fn sheen_max(&self) -> f32 {
+        self.sheen_color[0].max(self.sheen_color[1]).max(self.sheen_color[2])
+    }
+
+    /// Whether the material has a layer over its lobes: a clear coat or a sheen.
+    #[inline]
+    pub fn is_layered(&self) -> bool {
+        self.clearcoat > 0.0 || self.has_sheen()
     }
 
     /// Whether the material has a clear coat that is a mirror (`crate::clearcoat`).
@@ -472,28 +497,54 @@ fn rough_dielectric_pdf(alpha: Vec2, eta: f32, wo: Vec3, wi: Vec3, thin: bool) -
 
 /// f(wo, wi) at a surface with normals `n` (all unit; `wo` and `wi` point away); `radiance` is
 /// the transport mode (see [`dielectric_sample`]; a rough dielectric's transmission and the
-/// clear coat's weight depend on it): the material's lobes under its clear coat
-/// (`crate::clearcoat`).
+/// clear coat's weight depend on it): the material's lobes under its sheen (`crate::sheen`)
+/// under its clear coat (`crate::clearcoat`).
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn bsdf_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
-    if m.clearcoat > 0.0 {
-        return coated_eval(m, n, wo, wi, radiance);
+    if m.is_layered() {
+        return layered_eval(m, n, wo, wi, radiance);
     }
     base_eval(m, n, wo, wi, radiance)
 }
 
-/// [`bsdf_eval`] of a coated material: the lobes beneath, under the coat's layer.
-// Out of line and cold: materials without a coat pay a compare and a call site for it (2–4 %
+/// [`bsdf_eval`] of a material with layers over its lobes' f (`base`): the sheen's
+/// `c f_sheen + s base`, then the coat's `(1 − w) · that + w f_coat`.
+// Out of line and cold: materials without layers pay a compare and a call site for them (2–4 %
 // of `pt`'s and naive's time, `results/cpu-path/clearcoat/`).
 #[cold]
 #[inline(never)]
-fn coated_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
+fn layered_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
     let base = base_eval(m, n, wo, wi, radiance);
     let f = n.facing(wo);
+    let mut under = base;
+    if m.has_sheen() {
+        under = sheen_eval(m, n, wo, wi, base);
+    }
+    if !(m.clearcoat > 0.0) {
+        return under;
+    }
     let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(f.coat, wo, wi, radiance));
-    base * (1.0 - w) + Vec3::splat(w * coat_eval(m, f, wo, wi, radiance))
+    under * (1.0 - w) + Vec3::splat(w * coat_eval(m, f, wo, wi, radiance))
+}
+
+/// The sheen layer over the lobes' f `base` ([`crate::sheen`]): `c f_sheen + s base`, the
+/// layer in the shading normal's frame (where the callers' cosine is taken), on `wo`'s side.
+#[inline]
+fn sheen_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, base: Vec3) -> Vec3 {
+    let Some(ns) = shading_side(n, wo) else {
+        return Vec3::ZERO;
+    };
+    let (cos_o, cos_i) = (ns.dot(wo), ns.dot(wi));
+    let s = sheen::albedo_scaling(m.sheen_max(), m.sheen_roughness, cos_o, cos_i);
+    let mut f = base * s;
+    if cos_i > 0.0 && sides_agree(n, wo, wi) {
+        let frame = LobeFrame::new(ns, Vec3::ZERO);
+        let layer = sheen::eval(sheen::alpha(m.sheen_roughness), frame.to_local(wo), frame.to_local(wi));
+        f += Vec3::from_array(m.sheen_color) * layer;
+    }
+    f
 }
 
 /// The coat's layer `f_coat(wo, wi)` in its own frame (`f` the normals facing `wo`), as the
@@ -520,9 +571,9 @@ fn above_coat(f: Normals, w: Vec3) -> bool {
     f.coat.dot(w) > 0.0 && f.geometric.dot(w) > 0.0
 }
 
-/// f(wo, wi) of the material's lobes without its clear coat ([`bsdf_eval`]).
+/// f(wo, wi) of the material's lobes without its layers ([`bsdf_eval`]).
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller; on the
-// host the uncoated path of `bsdf_eval`, whole.
+// host the unlayered path of `bsdf_eval`, whole.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline(always))]
 fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
@@ -584,20 +635,35 @@ fn brdf_pdf(m: &Material, n: Normals, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline)]
 pub fn bsdf_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
-    if m.clearcoat > 0.0 {
-        return coated_pdf(m, n, wo, wi);
+    if m.is_layered() {
+        return layered_pdf(m, n, wo, wi);
     }
     base_pdf(m, n, wo, wi)
 }
 
-/// [`bsdf_pdf`] of a coated material: the coat's share and the lobes' beneath.
-// Out of line and cold: materials without a coat pay a compare and a call site for it (2–4 %
+/// [`bsdf_pdf`] of a material with layers: the density of its lobes beneath them, the sheen's
+/// share and then the coat's.
+// Out of line and cold: materials without layers pay a compare and a call site for them (2–4 %
 // of `pt`'s and naive's time, `results/cpu-path/clearcoat/`).
 #[cold]
 #[inline(never)]
-fn coated_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
+fn layered_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
     let base = base_pdf(m, n, wo, wi);
     let f = n.facing(wo);
+    let mut under = base;
+    if m.has_sheen() {
+        under = match shading_side(n, wo) {
+            Some(ns) => {
+                let p = sheen::probability(m.sheen_max(), m.sheen_roughness, ns.dot(wo));
+                let layer = if ns.dot(wi) > 0.0 && sides_agree(n, wo, wi) { sheen::PDF } else { 0.0 };
+                (1.0 - p) * base + p * layer
+            }
+            None => 0.0,
+        };
+    }
+    if !(m.clearcoat > 0.0) {
+        return under;
+    }
     let nc = f.coat;
     let p = coat::probability(m.clearcoat, nc.dot(wo));
     let layer = if above_coat(f, wo) && above_coat(f, wi) {
@@ -606,13 +672,12 @@ fn coated_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
     } else {
         0.0
     };
-    (1.0 - p) * base + p * layer
+    (1.0 - p) * under + p * layer
 }
 
-/// The density of sampling `wi` from the material's lobes without its clear coat
-/// ([`bsdf_pdf`]).
+/// The density of sampling `wi` from the material's lobes without its layers ([`bsdf_pdf`]).
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller; on the
-// host the uncoated path of `bsdf_pdf`, whole.
+// host the unlayered path of `bsdf_pdf`, whole.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline(always))]
 fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
@@ -779,8 +844,8 @@ fn dielectric_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radi
 /// [`dielectric_sample`] and `crate::clearcoat`; the other lobes are reciprocal).
 #[inline]
 pub fn bsdf_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) -> BsdfSample {
-    let choice = if m.clearcoat > 0.0 {
-        coated_sample(m, n, wo, u, radiance)
+    let choice = if m.is_layered() {
+        layered_sample(m, n, wo, u, radiance)
     } else {
         match shading_side(n, wo) {
             Some(ns) => base_sample(m, n, ns, wo, u, radiance),
@@ -798,7 +863,7 @@ pub fn bsdf_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) 
     BsdfSample { wi, f: bsdf_eval(m, n, wo, wi, radiance), pdf, delta: false }
 }
 
-/// The lobes beneath the coat's sample, `ns` the shading normal on `wo`'s side.
+/// The lobes beneath the layers' sample, `ns` the shading normal on `wo`'s side.
 #[inline]
 fn base_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radiance: bool) -> Choice {
     let choice = lobe_sample(m, n, ns, wo, u, radiance);
@@ -810,29 +875,48 @@ fn base_sample(m: &Material, n: Normals, ns: Vec3, wo: Vec3, u: Vec2, radiance: 
     choice
 }
 
-/// [`bsdf_sample`] of a coated material: the coat with [`coat::probability`] ([`coat_sample`]),
-/// else the lobes beneath (none where `wo` lies below the shading normal's hemisphere), whose
-/// delta samples the coat's weight and probability scale (their other samples' f and density
-/// are the whole material's already).
-// Out of line and cold: materials without a coat pay a compare and a call site for it, and the
-// device module keeps one copy.
+/// [`bsdf_sample`] of a material with layers: the coat with [`coat::probability`]
+/// ([`coat_sample`]), else the sheen with [`sheen::probability`] (a direction uniform over the
+/// shading hemisphere), else the lobes beneath (none where `wo` lies below the shading normal's
+/// hemisphere), whose delta samples the layers' weights and probabilities scale (their other
+/// samples' f and density are the whole material's already).
+// Out of line and cold: materials without layers pay a compare and a call site for them, and
+// the device module keeps one copy.
 #[cold]
 #[inline(never)]
-fn coated_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) -> Choice {
+fn layered_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) -> Choice {
     let nc = n.facing(wo).coat;
-    let p = coat::probability(m.clearcoat, nc.dot(wo));
-    if u.x < p {
-        return coat_sample(m, n, wo, Vec2::new((u.x / p).min(1.0 - f32::EPSILON), u.y), radiance, p);
+    let p_coat = if m.clearcoat > 0.0 { coat::probability(m.clearcoat, nc.dot(wo)) } else { 0.0 };
+    if u.x < p_coat {
+        let v = Vec2::new((u.x / p_coat).min(1.0 - f32::EPSILON), u.y);
+        return coat_sample(m, n, wo, v, radiance, p_coat);
     }
     let Some(ns) = shading_side(n, wo) else {
         return Choice::none();
     };
-    let v = Vec2::new(((u.x - p) / (1.0 - p)).min(1.0 - f32::EPSILON), u.y);
+    let mut v = Vec2::new(((u.x - p_coat) / (1.0 - p_coat)).min(1.0 - f32::EPSILON), u.y);
+    let p_sheen =
+        if m.has_sheen() { sheen::probability(m.sheen_max(), m.sheen_roughness, ns.dot(wo)) } else { 0.0 };
+    if v.x < p_sheen {
+        let w = Vec2::new((v.x / p_sheen).min(1.0 - f32::EPSILON), v.y);
+        return Choice::direction(LobeFrame::new(ns, Vec3::ZERO).from_local(sheen::sample(w)));
+    }
+    v.x = ((v.x - p_sheen) / (1.0 - p_sheen)).min(1.0 - f32::EPSILON);
     let mut choice = base_sample(m, n, ns, wo, v, radiance);
     if choice.sample.delta {
-        let w = coat::layer_weight(m.clearcoat, coat::viewer_cosine(nc, wo, choice.sample.wi, radiance));
-        choice.sample.f *= 1.0 - w;
-        choice.sample.pdf *= 1.0 - p;
+        let wi = choice.sample.wi;
+        let s = if m.has_sheen() {
+            sheen::albedo_scaling(m.sheen_max(), m.sheen_roughness, ns.dot(wo), ns.dot(wi))
+        } else {
+            1.0
+        };
+        let w = if m.clearcoat > 0.0 {
+            coat::layer_weight(m.clearcoat, coat::viewer_cosine(nc, wo, wi, radiance))
+        } else {
+            0.0
+        };
+        choice.sample.f *= s * (1.0 - w);
+        choice.sample.pdf *= (1.0 - p_sheen) * (1.0 - p_coat);
     }
     choice
 }

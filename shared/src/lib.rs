@@ -13,7 +13,7 @@
 //! - [`tree`]: the speculative mutation tree (the paper's §4, Eq. 2 and Eq. 3 generalised);
 //! - [`reject_chain`]: the reject chain of Byrd et al. (the paper's §3.3);
 //! - [`layout`]: SoA indexing and the packed `float4` contribution;
-//! - [`camera`], [`bsdf`] (with [`microfacet`]'s GGX and [`clearcoat`]'s layer), [`light`], [`punctual`], [`environment`] (both from outside the scene: [`distant`]),
+//! - [`camera`], [`bsdf`] (with [`microfacet`]'s GGX and the layers of [`sheen`] and [`clearcoat`]), [`light`], [`punctual`], [`environment`] (both from outside the scene: [`distant`]),
 //!   [`triangle`]: the scene primitives, and
 //!   [`color`]'s luminance;
 //! - [`texture`]: texture lookups from one texel buffer; [`surface`]: the material and the
@@ -62,6 +62,7 @@ pub mod rays;
 pub mod reject_chain;
 pub mod rng;
 pub mod scene;
+pub mod sheen;
 pub mod surface;
 #[cfg(all(test, not(target_arch = "spirv")))]
 mod testing;

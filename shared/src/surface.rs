@@ -96,12 +96,17 @@ pub struct MaterialTextures {
     /// `KHR_materials_transmission`'s transmissionTexture (linear; R the transmissionFactor's
     /// factor).
     pub transmission: TextureRef,
+    /// `KHR_materials_sheen`'s sheenColorTexture (sRGB; rgb the sheenColorFactor's factor).
+    pub sheen_color: TextureRef,
+    /// `KHR_materials_sheen`'s sheenRoughnessTexture (linear; A the sheenRoughnessFactor's
+    /// factor).
+    pub sheen_roughness: TextureRef,
 }
 
 impl MaterialTextures {
     /// Every texture slot, in a fixed order (for the host's checks; the shading reads them by
     /// name).
-    pub fn slots(&self) -> [TextureRef; 11] {
+    pub fn slots(&self) -> [TextureRef; 13] {
         [
             self.base_color,
             self.metallic_roughness,
@@ -114,6 +119,8 @@ impl MaterialTextures {
             self.specular,
             self.specular_color,
             self.transmission,
+            self.sheen_color,
+            self.sheen_roughness,
         ]
     }
 }
@@ -333,7 +340,7 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
     let (mut metallic, mut transmission) = (t.metallic, t.transmission_factor);
     // One lookup in a loop over the slots (the device module keeps one copy of it).
     let mut slot = 0;
-    while slot < 9 {
+    while slot < 11 {
         let r = if slot == 0 {
             t.base_color
         } else if slot == 1 {
@@ -350,12 +357,16 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
             t.specular
         } else if slot == 7 {
             t.specular_color
-        } else {
+        } else if slot == 8 {
             t.transmission
+        } else if slot == 9 {
+            t.sheen_color
+        } else {
+            t.sheen_roughness
         };
         if r.is_some() {
-            // Base colour, emission and specular colour are sRGB, the others linear.
-            let c = lookup(scene, r, uv0, uv1, slot == 0 || slot == 2 || slot == 7);
+            // Base colour, emission, specular colour and sheen colour are sRGB, the others linear.
+            let c = lookup(scene, r, uv0, uv1, slot == 0 || slot == 2 || slot == 7 || slot == 9);
             if slot == 0 {
                 out.albedo = (Vec3::from_array(m.albedo) * c.truncate()).to_array();
             } else if slot == 1 {
@@ -376,8 +387,12 @@ fn textured<R>(scene: &Scene<R>, m: Material, triangle: u32, b: Vec2) -> Materia
                 out.specular = m.specular * c.w;
             } else if slot == 7 {
                 out.specular_color = (Vec3::from_array(m.specular_color) * c.truncate()).to_array();
-            } else {
+            } else if slot == 8 {
                 transmission = t.transmission_factor * c.x;
+            } else if slot == 9 {
+                out.sheen_color = (Vec3::from_array(m.sheen_color) * c.truncate()).to_array();
+            } else {
+                out.sheen_roughness = m.sheen_roughness * c.w;
             }
         }
         slot += 1;

@@ -272,9 +272,10 @@ pub fn brdf_scene(point: bool) -> SceneData {
 /// before a wall: a smooth coat over a red plastic ball (the glTF BRDF) whose normal texture
 /// ridges the base and not the coat, a glossy coat (0.1) whose own normal texture ridges it
 /// over a smooth blue ball, a rough coat (0.3) over
-/// a white Lambert block, a half-strength smooth coat over rough gold, and a rough coat (0.2)
-/// over a thin glass pane, and a rough coat (0.5) over a black tile; lit by an area lamp, or with `point` by a point lamp (whose light
-/// off the smooth coats no path tracer renders).
+/// a white Lambert block, a half-strength smooth coat over a satin sheen (`KHR_materials_sheen`)
+/// over rough gold, and a rough coat (0.2) over a thin glass pane, and a rough coat (0.5) over
+/// a black tile; and a sheen alone over a dark red velvet ball; lit by an area lamp, or with
+/// `point` by a point lamp (whose light off the smooth coats no path tracer renders).
 #[allow(dead_code)]
 pub fn coated_scene(point: bool) -> SceneData {
     let mut b = GltfBuilder::new();
@@ -308,6 +309,8 @@ pub fn coated_scene(point: bool) -> SceneData {
     b.cuboid(white, v(0.5, 0.25, -0.3), v(0.25, 0.25, 0.25), 0.5);
     let gold = b.pbr("coated gold", [1.0, 0.78, 0.34], 1.0, 0.4);
     b.clearcoat(gold, 0.5, 0.0);
+    // A satin sheen between the coat and the metal.
+    b.sheen(gold, [0.9, 0.9, 1.0], 0.3);
     b.cuboid(gold, v(-0.9, 0.2, 0.3), v(0.2, 0.2, 0.2), -0.3);
     let pane = b.glass("coated pane", [0.9, 0.95, 1.0], 1.5, false);
     b.clearcoat(pane, 1.0, 0.2);
@@ -318,13 +321,17 @@ pub fn coated_scene(point: bool) -> SceneData {
     let black = b.material("coated black", [0.0; 3], [0.0; 3], 1.0, None);
     b.clearcoat(black, 1.0, 0.5);
     b.cuboid(black, v(0.95, 0.6, -1.0), v(0.3, 0.3, 0.02), -0.3);
+    let velvet = b.material("velvet", [0.25, 0.02, 0.04], [0.0; 3], 1.0, None);
+    b.sheen(velvet, [0.9, 0.5, 0.7], 0.35);
+    b.sphere(velvet, v(0.15, 0.25, 0.45), 0.25, 10);
     lamp_and_camera(&mut b, point);
     SceneData::from_slice(b.to_json().as_bytes(), "coated scene").expect("coated scene")
 }
 
 /// Every texture slot glTF has, each with a different sampler: a checker floor (base colour,
 /// NEAREST) whose tiles lean four ways (normalTexture, NEAREST), a wall of colour bands (base colour, bilinear, MIRRORED_REPEAT, through a
-/// `KHR_texture_transform`), a smooth ball whose metallic-roughness texture stripes it into rough
+/// `KHR_texture_transform`) under a sheen whose colour and roughness are a texture of fibres
+/// (NEAREST), a smooth ball whose metallic-roughness texture stripes it into rough
 /// dielectric, rough metal and a glossier half metal (bilinear), whose transmissionTexture (the
 /// same image's red) makes much of the dielectric and some of the half metal a thin wall of
 /// glass, and whose normal texture ridges it (bilinear, in MikkTSpace's vertex tangents), and
@@ -370,6 +377,21 @@ pub fn textured_scene() -> SceneData {
         Some(json!({"rotation": 0.4, "scale": [1.3, 0.7], "offset": [0.1, 0.2]})),
         Planar { u: Vec3::X * 0.5, v: -Vec3::Y * 0.5 },
     );
+    // A sheen over the bands, its colour (sRGB) and roughness (alpha) from one texture of
+    // fibres (NEAREST).
+    b.sheen(wall, [1.0, 0.9, 0.8], 0.9);
+    let fibres = png(2, 2, |x, y| [[255, 240, 200, 60], [90, 160, 255, 255]][((x + y) % 2) as usize]);
+    for slot in ["sheenColorTexture", "sheenRoughnessTexture"] {
+        b.texture(
+            wall,
+            slot,
+            fibres.clone(),
+            json!({"magFilter": 9728}),
+            None,
+            // The bands' coordinates (one projection a material).
+            Planar { u: Vec3::X * 0.5, v: -Vec3::Y * 0.5 },
+        );
+    }
     b.quad(wall, [v(-2., 0., -2.), v(2., 0., -2.), v(2., 2.5, -2.), v(-2., 2.5, -2.)]);
     let ball = b.pbr("striped metal", [0.95, 0.7, 0.4], 1.0, 1.0);
     let stripes =

@@ -76,10 +76,11 @@ pub fn parse(bytes: &[u8], name: &str, base: Option<&Path>) -> Result<Parsed, Sc
 /// the document's JSON, quantised attributes through `super::attributes`, WebP images in
 /// `super::textures`, compressed views in `super::meshopt`, compressed primitives in
 /// `super::draco`, KTX2 images in `super::ktx2`, a node's instances in `super::instancing`,
-/// anisotropic roughness in `super::read`.
-pub const READ_BY_SMLT: [&str; 8] = [
+/// anisotropic roughness and the sheen in `super::read`.
+pub const READ_BY_SMLT: [&str; 9] = [
     "KHR_materials_clearcoat",
     super::read::ANISOTROPY,
+    super::read::SHEEN,
     super::validate::MESH_QUANTIZATION,
     super::textures::WEBP,
     super::meshopt::EXTENSION,

@@ -328,9 +328,12 @@ fn read_material(
         ..textures
     };
     let (anisotropy, anisotropy_texture) = read_anisotropy(m, store, source, &at, warnings)?;
+    let sheen = read_sheen(m, store, source, &at, warnings)?;
     let mut textures = MaterialTextures {
         anisotropic: u32::from(anisotropy != [0.0; 2]),
         anisotropy: anisotropy_texture,
+        sheen_color: sheen.color_texture,
+        sheen_roughness: sheen.roughness_texture,
         ..textures
     };
     let malformed = |what: String| SceneError::Malformed { path: name.into(), what: format!("{at}.{what}") };
@@ -382,6 +385,8 @@ fn read_material(
         specular_color,
         clearcoat: coat.factor,
         clearcoat_alpha: coat.roughness * coat.roughness,
+        sheen_color: sheen.color,
+        sheen_roughness: sheen.roughness,
         ..glass
     }
     .with_metallic(metallic, glass.transmission);
@@ -437,6 +442,57 @@ fn read_anisotropy(
 
 /// The extension of anisotropic roughness.
 pub const ANISOTROPY: &str = "KHR_materials_anisotropy";
+
+/// The extension of the sheen layer.
+pub const SHEEN: &str = "KHR_materials_sheen";
+
+/// A material's `KHR_materials_sheen` (its numbers checked by `super::validate`).
+struct Sheen {
+    /// sheenColorFactor (black: no sheen).
+    color: [f32; 3],
+    /// sheenRoughnessFactor.
+    roughness: f32,
+    color_texture: TextureRef,
+    roughness_texture: TextureRef,
+}
+
+/// The sheen of `m` (`shared::sheen`): its factors and the textures that multiply them (none
+/// where the colour is black: the layer is off).
+fn read_sheen(
+    m: &gltf::Material,
+    store: &mut TextureStore,
+    source: &Source,
+    at: &str,
+    warnings: &mut Vec<String>,
+) -> Result<Sheen, SceneError> {
+    let mut sheen = Sheen {
+        color: [0.0; 3],
+        roughness: 0.0,
+        color_texture: TextureRef::NONE,
+        roughness_texture: TextureRef::NONE,
+    };
+    let Some(ext) = m.extension_value(SHEEN) else {
+        return Ok(sheen);
+    };
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or(0.0) as f32;
+    if let Some(c) = ext.get("sheenColorFactor").and_then(serde_json::Value::as_array) {
+        for (k, v) in c.iter().take(3).enumerate() {
+            sheen.color[k] = number(v);
+        }
+    }
+    sheen.roughness = ext.get("sheenRoughnessFactor").map_or(0.0, number);
+    if sheen.color == [0.0; 3] {
+        return Ok(sheen);
+    }
+    let at = format!("{at}.extensions.{SHEEN}");
+    let mut slot = |key: &str, warnings: &mut Vec<String>| match ext.get(key) {
+        Some(info) => store.json_reference(source, info, &format!("{at}.{key}"), warnings),
+        None => Ok(TextureRef::NONE),
+    };
+    sheen.color_texture = slot("sheenColorTexture", warnings)?;
+    sheen.roughness_texture = slot("sheenRoughnessTexture", warnings)?;
+    Ok(sheen)
+}
 
 /// A material's `KHR_materials_clearcoat` (its numbers checked by `super::validate`).
 struct Clearcoat {

@@ -241,17 +241,23 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
                     }
                 }
             }
-            // The core's texture references the gltf crate checks; an extension's it does not.
-            for key in ["clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"] {
-                if let Some(info) = c.get(key) {
-                    let at = format!("{at}.{key}");
-                    let index = uint(info, "index", &at)?.ok_or(format!("{at}: no index"))?;
-                    if index >= list("textures").len() as u64 {
-                        return Err(format!("{at}.index: {index} names no texture"));
-                    }
-                    uint(info, "texCoord", &at)?;
+            let keys = ["clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"];
+            texture_infos(c, &keys, &at, list("textures").len())?;
+        }
+        if let Some(s) = material.get("extensions").and_then(|e| e.get(super::read::SHEEN)) {
+            let at = format!("{at}.extensions.{}", super::read::SHEEN);
+            if let Some(v) = s.get("sheenColorFactor") {
+                let values = numbers(v, 3).ok_or(format!("{at}.sheenColorFactor: not 3 finite numbers"))?;
+                if let Some(x) = values.iter().find(|x| !(0.0..=1.0).contains(*x)) {
+                    return Err(format!("{at}.sheenColorFactor: {} is outside [0, 1]", *x as f32));
                 }
             }
+            if let Some(x) = number(s, "sheenRoughnessFactor", &at)? {
+                if !(0.0..=1.0).contains(&x) {
+                    return Err(format!("{at}.sheenRoughnessFactor: {} is outside [0, 1]", x as f32));
+                }
+            }
+            texture_infos(s, &["sheenColorTexture", "sheenRoughnessTexture"], &at, list("textures").len())?;
         }
         if let Some(s) = material.get("extensions").and_then(|e| e.get("KHR_materials_emissive_strength")) {
             let at = format!("{at}.extensions.KHR_materials_emissive_strength");
@@ -259,6 +265,23 @@ pub fn validate(root: &Value, buffers: &[usize]) -> Result<(), String> {
             if !(strength >= 0.0) {
                 return Err(format!("{at}.emissiveStrength: {} is not a finite number ≥ 0", strength as f32));
             }
+        }
+    }
+    Ok(())
+}
+
+/// The texture references `keys` of an extension's object `ext` (at `at`): each an index below
+/// `textures` and an unsigned texCoord (the core's references the gltf crate checks; an
+/// extension's it does not).
+fn texture_infos(ext: &Value, keys: &[&str], at: &str, textures: usize) -> Result<(), String> {
+    for key in keys {
+        if let Some(info) = ext.get(key) {
+            let at = format!("{at}.{key}");
+            let index = uint(info, "index", &at)?.ok_or(format!("{at}: no index"))?;
+            if index >= textures as u64 {
+                return Err(format!("{at}.index: {index} names no texture"));
+            }
+            uint(info, "texCoord", &at)?;
         }
     }
     Ok(())

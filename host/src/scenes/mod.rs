@@ -292,7 +292,9 @@ impl GltfBuilder {
     /// Gives `material` a texture in `slot` (`baseColorTexture`, `metallicRoughnessTexture`,
     /// `emissiveTexture`, `normalTexture`, a clear coat's ([`GltfBuilder::clearcoat`] first):
     /// `clearcoatTexture`, `clearcoatRoughnessTexture`, `clearcoatNormalTexture`, or the
-    /// transmission's ([`GltfBuilder::transmission`] first): `transmissionTexture`): a PNG, its sampler's JSON and an optional
+    /// transmission's ([`GltfBuilder::transmission`] first): `transmissionTexture`, or the
+    /// sheen's ([`GltfBuilder::sheen`] first): `sheenColorTexture`, `sheenRoughnessTexture`): a
+    /// PNG, its sampler's JSON and an optional
     /// `KHR_texture_transform`, read with TEXCOORD_0, which the material's meshes get from
     /// `projection`.
     pub fn texture(
@@ -315,6 +317,10 @@ impl GltfBuilder {
             let coat = &mut m["extensions"]["KHR_materials_clearcoat"];
             assert!(coat.is_object(), "a clear coat's texture needs the coat ({slot})");
             coat[slot] = info;
+        } else if slot.starts_with("sheen") {
+            let sheen = &mut m["extensions"]["KHR_materials_sheen"];
+            assert!(sheen.is_object(), "a sheen's texture needs the sheen ({slot})");
+            sheen[slot] = info;
         } else if slot == "transmissionTexture" {
             let glass = &mut m["extensions"]["KHR_materials_transmission"];
             assert!(glass.is_object(), "a transmissionTexture needs the transmission ({slot})");
@@ -356,6 +362,16 @@ impl GltfBuilder {
         }
         m["extensions"]["KHR_materials_clearcoat"] =
             json!({"clearcoatFactor": factor, "clearcoatRoughnessFactor": roughness});
+    }
+
+    /// Gives `material` a sheen (`KHR_materials_sheen`) of `color` and `roughness`.
+    pub fn sheen(&mut self, material: usize, color: [f32; 3], roughness: f32) {
+        let m = &mut self.materials[material];
+        if !m["extensions"].is_object() {
+            m["extensions"] = json!({});
+        }
+        m["extensions"]["KHR_materials_sheen"] =
+            json!({"sheenColorFactor": color, "sheenRoughnessFactor": roughness});
     }
 
     /// Makes `transmission` of `material` a thin-walled dielectric (`KHR_materials_transmission`'s

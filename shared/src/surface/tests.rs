@@ -118,6 +118,8 @@ fn fixture() -> Fixture {
                 specular: TextureRef::NONE,
                 specular_color: TextureRef::NONE,
                 transmission: TextureRef::NONE,
+                sheen_color: TextureRef::NONE,
+                sheen_roughness: TextureRef::NONE,
             },
         ],
         textures: vec![
