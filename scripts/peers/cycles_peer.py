@@ -32,7 +32,8 @@ What is set after the import, so that Cycles renders what smlt renders:
   smlt's Phong lobe (`extras.smlt_phong_exponent`, the generated banners) is refused: the
   importer reads it as Lambert and Cycles has no Phong closure; so is a rough thin wall of
   glass (roughness² ≥ 1e-3 without KHR_materials_volume), which passes smlt's reflection lobe
-  mirrored through the plane, a closure Cycles lacks;
+  mirrored through the plane, a closure Cycles lacks; and so is a sheen (KHR_materials_sheen),
+  which the importer makes Cycles' own microfibre sheen, another model;
 - emission one-sided, as smlt's emissive triangles (Cycles' emission is two-sided): the
   strength times (1 - Backfacing);
 - solid glass (KHR_materials_volume thicknessFactor > 0): the importer's Principled BSDF with
@@ -147,6 +148,10 @@ def fix_materials(bpy, doc, notes):
             # extension's thin-walled BTDF); Cycles has no such closure.
             raise SystemExit(f"material {mat.name!r}: a rough thin wall of glass (roughness {roughness:g}),"
                              " which Cycles cannot render")
+        if max(ext.get("KHR_materials_sheen", {}).get("sheenColorFactor", [0, 0, 0])) > 0:
+            # The importer makes Cycles' Principled sheen of it, a microfibre model of its own,
+            # not the extension's Charlie lobe with albedo scaling.
+            raise SystemExit(f"material {mat.name!r}: KHR_materials_sheen, whose lobe Cycles does not have")
         if principled.inputs["Emission Strength"].default_value > 0 and max(spec.get("emissiveFactor", [0, 0, 0])) > 0:
             geometry = nt.nodes.new("ShaderNodeNewGeometry")
             front = nt.nodes.new("ShaderNodeMath")  # strength x (1 - backfacing)

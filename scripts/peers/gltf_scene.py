@@ -89,6 +89,8 @@ class Material:
     opacity: float = 1.0  # baseColorFactor's alpha (x the base colour texture's alpha)
     clearcoat: float = 0.0  # KHR_materials_clearcoat's clearcoatFactor (0: no coat)
     clearcoat_roughness: float = 0.0  # its clearcoatRoughnessFactor
+    sheen_color: tuple = (0.0, 0.0, 0.0)  # KHR_materials_sheen's sheenColorFactor (black: no sheen)
+    sheen_roughness: float = 0.0  # its sheenRoughnessFactor
 
     @property
     def textures(self):
@@ -302,7 +304,9 @@ def load(path, rotation="example"):
                                   transmission, m.get("alphaMode", "OPAQUE"), float(m.get("alphaCutoff", 0.5)),
                                   float(pbr.get("baseColorFactor", [1, 1, 1, 1])[3]),
                                   float(ext.get("KHR_materials_clearcoat", {}).get("clearcoatFactor", 0.0)),
-                                  float(ext.get("KHR_materials_clearcoat", {}).get("clearcoatRoughnessFactor", 0.0))))
+                                  float(ext.get("KHR_materials_clearcoat", {}).get("clearcoatRoughnessFactor", 0.0)),
+                                  tuple(ext.get("KHR_materials_sheen", {}).get("sheenColorFactor", [0.0, 0.0, 0.0])),
+                                  float(ext.get("KHR_materials_sheen", {}).get("sheenRoughnessFactor", 0.0))))
     scene = Scene(materials)
     shading = {}  # material index -> per primitive: ((k, 3, 3) normals or None (flat), its triangles)
     root = doc["scenes"][doc.get("scene", 0)]

@@ -21,9 +21,6 @@ import math
 import drjit as dr
 import mitsuba as mi
 
-# Both sides, as smlt's surfaces: the glTF plugin's turn of V and L to V's side.
-from mitsuba_gltf import SmltGltf
-
 NAME = "smlt_coat"
 SMOOTH_ALPHA = 1e-3
 P_LAYER = 0.5
@@ -43,6 +40,12 @@ class SmltCoat(mi.BSDF):
         self.m_components = [self.base.flags(), lobe | sides]
         self.m_flags = self.base.flags() | lobe | sides
         self.ggx = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, max(self.alpha, SMOOTH_ALPHA), True)
+
+    @staticmethod
+    def _local(si, wo):
+        """V and L turned to V's side (both sides scatter, as smlt's surfaces do)."""
+        side = dr.select(si.wi.z >= 0.0, 1.0, -1.0)
+        return mi.Vector3f(si.wi.x, si.wi.y, side * si.wi.z), mi.Vector3f(wo.x, wo.y, side * wo.z)
 
     def _weight(self, v):
         x = dr.clip(1.0 - dr.abs(v.z), 0.0, 1.0)
@@ -66,14 +69,14 @@ class SmltCoat(mi.BSDF):
         return self.ggx.pdf(v, h) / (4.0 * dr.dot(v, h))
 
     def eval(self, ctx, si, wo, active=True):
-        v, l = SmltGltf._local(si, wo)
+        v, l = self._local(si, wo)
         w = self._weight(v)
         above = active & (v.z > 0.0) & (l.z > 0.0)
         layer = dr.select(above, w * self._layer(v, l) * l.z, 0.0)
         return self.base.eval(ctx, si, wo, active) * (1.0 - w) + layer
 
     def pdf(self, ctx, si, wo, active=True):
-        v, l = SmltGltf._local(si, wo)
+        v, l = self._local(si, wo)
         above = active & (v.z > 0.0) & (l.z > 0.0)
         layer = dr.select(above, self._layer_pdf(v, l), 0.0)
         return (1.0 - P_LAYER) * self.base.pdf(ctx, si, wo, active) + P_LAYER * layer

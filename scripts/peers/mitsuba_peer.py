@@ -25,8 +25,9 @@ KHR_materials_volume, with a `homogeneous` purely absorbing interior medium and 
 it attenuates) or `thindielectric` (thin-walled: Mitsuba sums the slab's inter-reflections,
 reflecting 2R/(1+R) where glTF's single interface reflects R; a rough thin wall -> `smlt_thin`,
 a Python BSDF plugin written from the extension, `mitsuba_thin.py`), tinted by baseColor, blended
-with the BRDF rest by `blendbsdf` where transmissionFactor < 1; KHR_materials_clearcoat -> `smlt_coat`
-over the whole BSDF (`mitsuba_coat.py`, written from the extension); glTF's metallic-roughness BRDF
+with the BRDF rest by `blendbsdf` where transmissionFactor < 1; KHR_materials_sheen -> `smlt_sheen`
+over the whole BSDF (`mitsuba_sheen.py`, written from the extension's notes);
+KHR_materials_clearcoat -> `smlt_coat` over that (`mitsuba_coat.py`, written from the extension); glTF's metallic-roughness BRDF
 otherwise -> `smlt_gltf`, a Python BSDF plugin written from the spec (`mitsuba_gltf.py`: Mitsuba
 has no glTF BRDF; `principled` is Disney's, see check_materials.sh); `--environment` as smlt's
 -> `envmap` or `constant` (`environment_dict`); textures (baseColorTexture on Lambert, emissiveTexture
@@ -276,6 +277,10 @@ def scene_dict(mi, scene, view, width, height, max_depth, folder):
                 medium = {"type": "homogeneous", "albedo": 0.0, "scale": top,
                           "sigma_t": {"type": "rgb", "value": [c / top for c in mat.attenuation]}}
                 d["integrator"]["type"] = "volpath"
+        if max(mat.sheen_color) > 0:
+            # KHR_materials_sheen over everything but the coat: mitsuba_sheen.py's plugin
+            bsdf = {"type": "smlt_sheen", "color": list(mat.sheen_color), "roughness": mat.sheen_roughness,
+                    "base": bsdf}
         if mat.clearcoat > 0:
             # KHR_materials_clearcoat over everything: mitsuba_coat.py's plugin, registered in main()
             bsdf = {"type": "smlt_coat", "clearcoat": mat.clearcoat, "alpha": mat.clearcoat_roughness ** 2,
@@ -364,6 +369,9 @@ def main():
     import mitsuba_coat
 
     mitsuba_coat.register()
+    import mitsuba_sheen
+
+    mitsuba_sheen.register()
     import mitsuba_thin
 
     mitsuba_thin.register()
