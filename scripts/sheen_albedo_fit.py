@@ -16,6 +16,13 @@ import numpy as np
 from numpy.polynomial import chebyshev as C
 
 DU, DV = 14, 8
+
+
+def f32(value):
+    """The shortest decimal that reads back as the f32 nearest `value`."""
+    return np.format_float_positional(np.float32(value), unique=True, trim="0")
+
+
 rows = [line.split(",") for line in open(sys.argv[1]).read().split("\n")[1:] if line]
 x, r, e = (np.array([float(row[k]) for row in rows]) for k in range(3))
 u = 2 * x - 1
@@ -45,8 +52,8 @@ for i in range(DU + 1):
     # The coefficient of T_i(u): a series in v.
     s = ["    let a%d = {" % i, "        let b = (0.0f32, 0.0f32);"]
     for k in range(DV, 0, -1):
-        s.append("        let b = step(v, b, %r);" % float(np.float32(c[i, k])))
-    s.append("        v * b.0 - b.1 + %r" % float(np.float32(c[i, 0])))
+        s.append("        let b = step(v, b, %s);" % f32(c[i, k]))
+    s.append("        v * b.0 - b.1 + %s" % f32(c[i, 0]))
     s.append("    };")
     lines += s
 lines.append("    let b = (0.0f32, 0.0f32);")
