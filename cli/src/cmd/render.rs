@@ -19,7 +19,7 @@ pub struct Args {
     #[command(flatten)]
     #[allow(missing_docs)] // flattened: documented on SceneArgs
     pub scene: SceneArgs,
-    /// auto (chosen for the view by a short pilot of pt, naive and path-naive; the summary says
+    /// auto (chosen for the view by a short pilot of pt and naive; the summary says
     /// which and why), pt (the path tracer), naive, s<d> (speculative tree of depth d = 1..8; s1
     /// is naive), or rc<l> (reject chain of l = 2..64 proposals); path-naive, path-s<d>,
     /// path-rc<l>: the same chains over the path tracer's estimate instead of the paper's

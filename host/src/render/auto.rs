@@ -18,8 +18,7 @@
 //!
 //! Both are relative errors against the pilot's own [`reference()`], the median of the halves. A
 //! path tracer whose error sits in a few fireflies has met a tail its pilot cannot measure
-//! ([`Assessment::met_fireflies`]) and is not chosen while another candidate has a prediction;
-//! nor are the chains over its estimate, which stick on its fireflies ([`CANDIDATES`]).
+//! ([`Assessment::met_fireflies`]) and is not chosen while another candidate has a prediction.
 //!
 //! From them each candidate's relMSE (as the bench measures it) is predicted for the render
 //! ahead ([`Assessment::predicted_relmse`]: the variance scaled to the render's time and
@@ -45,22 +44,20 @@ use super::{
 };
 use crate::scene::SceneData;
 
-/// The methods the pilot weighs: the path tracer, the paper's naive chains, and the naive chains
-/// over the path tracer's estimate (`path-naive`), the best method where light arrives through
-/// gaps (1.4× `pt` on `sunblind`). The speculative trees and reject chains parallelise the same
-/// chains; on these cores they do not pay (docs/results.md).
+/// The methods the pilot weighs: the path tracer, and the paper's naive chains (the
+/// speculative trees and reject chains parallelise the same chains; on these cores they do not
+/// pay, docs/results.md).
 ///
-/// The chains over the path tracer's estimate stick on its fireflies: a chain started on one
-/// (the bootstrap draws start states in proportion to their values) stays there for thousands
-/// of steps, and a short pilot of the chains does not always show it. On the atrium's views 5
-/// of 6 renders of 8 s carried such a blot (relMSE 0.05–0.49 against naive's 0.009–0.019) and
-/// 16 of 16 pilots of the chains showed none (`results/cpu-path/auto/pilot_reference.md`). So
-/// they are weighed only where the path tracer's own pilot met no fireflies
-/// ([`most_efficient`]): on the atrium's views, where its error lies in them, it met them in 7
-/// of 8 pilots; on `sunblind`, where `path-naive` wins, in none. Where they are weighed they can
-/// still be chosen wrongly: on the banner view, when they were candidates without this rule, one
-/// pilot of three chose them and the render reached a quarter of `pt`'s efficiency.
-pub const CANDIDATES: [Method; 3] = [Method::PathTracer, Method::NAIVE, Method::PATH_NAIVE];
+/// Not the chains over the path tracer's estimate (`path-naive`), though they are the best
+/// method on `sunblind` (1.5× `pt`): their chains stick on the path tracer's fireflies — a
+/// chain started on one (the bootstrap draws start states in proportion to their values) stays
+/// there for thousands of steps — and no pilot sees it. On the atrium's views 5 of 6 renders of
+/// 8 s carried such a blot (relMSE 0.05–0.49 against naive's 0.009–0.019) and 16 of 16 pilots
+/// showed none; with the render's 65 536 bootstrap samples 2 of 6 two-second renders of the
+/// atrium did (0.16 and 3.0), with the pilot's 8192 none (0.021–0.024,
+/// `results/cpu-path/auto/pilot_reference.md`). Chosen on the banner view by one pilot of
+/// three, it rendered at a quarter of `pt`'s efficiency.
+pub const CANDIDATES: [Method; 2] = [Method::PathTracer, Method::NAIVE];
 
 /// The widest pilot image: the pilot renders the view at most this wide (its aspect kept), so
 /// that a short pilot has enough samples in each pixel to compare.
@@ -176,18 +173,15 @@ pub struct Choice {
 impl Choice {
     /// One line for the render summary: what was chosen, and why.
     pub fn describe(&self) -> String {
-        let tail = fireflies_met(&self.assessments);
         let each: Vec<String> = self
             .assessments
             .iter()
             .map(|a| {
-                let guard =
-                    match (a.met_fireflies(), on_fireflies(a, tail), a.missing_relmse > a.halves_relmse) {
-                        (true, _, _) => ", fireflies",
-                        (false, true, _) => ", over pt's fireflies",
-                        (false, false, true) => ", missing light",
-                        (false, false, false) => "",
-                    };
+                let guard = match (a.met_fireflies(), a.missing_relmse > a.halves_relmse) {
+                    (true, _) => ", fireflies",
+                    (false, true) => ", missing light",
+                    (false, false) => "",
+                };
                 format!("{} {:.2e}{guard}", a.method, a.predicted_relmse(self.render_seconds, self.pixels))
             })
             .collect();
@@ -378,30 +372,15 @@ fn blocks(values: usize, width: u32) -> Vec<Vec<usize>> {
 
 /// The candidate of `assessments` predicted to reach the least relMSE in a render of `seconds`
 /// with `pixels` times the pilot's pixels ([`Assessment::predicted_relmse`]), among those whose
-/// pilot met no fireflies ([`Assessment::met_fireflies`]) where there is one, and never the
-/// chains over the path tracer's estimate where its pilot met them ([`on_fireflies`]); a
-/// candidate whose prediction is not a positive number (an image the pilot found black, say) is
-/// never preferred to one whose is, and where none has one, the paper's naive chains.
+/// pilot met no fireflies ([`Assessment::met_fireflies`]) where there is one; a candidate whose
+/// prediction is not a positive number (an image the pilot found black, say) is never preferred
+/// to one whose is, and where none has one, the paper's naive chains.
 pub fn most_efficient(assessments: &[Assessment], seconds: f64, pixels: f64) -> Method {
     let predicted = |a: &Assessment| a.predicted_relmse(seconds, pixels);
     let measured = |a: &&Assessment| predicted(a).is_finite() && predicted(a) > 0.0;
-    let tail = fireflies_met(assessments);
-    let weighed = |a: &&Assessment| measured(a) && !on_fireflies(a, tail);
-    let calm: Vec<&Assessment> = assessments.iter().filter(weighed).filter(|a| !a.met_fireflies()).collect();
-    let pool = if calm.is_empty() { assessments.iter().filter(weighed).collect() } else { calm };
+    let calm: Vec<&Assessment> = assessments.iter().filter(measured).filter(|a| !a.met_fireflies()).collect();
+    let pool = if calm.is_empty() { assessments.iter().filter(measured).collect() } else { calm };
     pool.into_iter().min_by(|a, b| predicted(a).total_cmp(&predicted(b))).map_or(Method::NAIVE, |a| a.method)
-}
-
-/// Whether the path tracer's pilot among `assessments` met fireflies
-/// ([`Assessment::met_fireflies`]).
-pub fn fireflies_met(assessments: &[Assessment]) -> bool {
-    assessments.iter().any(Assessment::met_fireflies)
-}
-
-/// Whether `a` is chains over the path tracer's estimate where its pilot met fireflies (`tail`,
-/// [`fireflies_met`]): chains that stick on them ([`CANDIDATES`]), not weighed.
-pub fn on_fireflies(a: &Assessment, tail: bool) -> bool {
-    tail && a.method.traces_paths() && a.method != Method::PathTracer
 }
 
 /// The most bootstrap samples a pilot's Metropolis render traces: an eighth of the default.

@@ -121,16 +121,6 @@ impl Method {
     /// The paper's naive parallel MMLT (the default).
     pub const NAIVE: Method =
         Method::Metropolis { schedule: Schedule::NAIVE, estimator: Estimator::Multiplexed };
-
-    /// The naive chains over the path tracer's estimate (`path-naive`).
-    pub const PATH_NAIVE: Method =
-        Method::Metropolis { schedule: Schedule::NAIVE, estimator: Estimator::Path };
-
-    /// Whether its samples are the path tracer's paths: the path tracer's own, or chains over
-    /// its estimate (`path-<method>`), which share its fireflies.
-    pub fn traces_paths(&self) -> bool {
-        matches!(self, Method::PathTracer | Method::Metropolis { estimator: Estimator::Path, .. })
-    }
 }
 
 impl std::fmt::Display for Method {

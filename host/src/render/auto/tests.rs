@@ -62,7 +62,12 @@ const WIDTH: u32 = 200;
 
 const PT: Method = CANDIDATES[0];
 const NAIVE: Method = CANDIDATES[1];
-const PATH_NAIVE: Method = CANDIDATES[2];
+/// A third method, as [`assess`] weighs any number (the chains over the path tracer's estimate,
+/// once a candidate).
+const PATH_NAIVE: Method = Method::Metropolis {
+    schedule: crate::render::Schedule::NAIVE,
+    estimator: crate::render::Estimator::Path,
+};
 
 /// Unbiased candidates: the halves recover each one's relMSE (within 5 %), hardly any light is found
 /// missing (under 2 % of the noisiest candidate's variance), and the one predicted best after a second is chosen — here the
@@ -266,45 +271,6 @@ fn a_path_tracer_that_met_fireflies_is_not_measured() {
     assert!(line.contains("pt 1.00e-2, fireflies, naive 4.00e-2)"), "{line}");
 }
 
-/// The chains over the path tracer's estimate are weighed like any candidate where the path
-/// tracer's pilot met no fireflies, and chosen where predicted best; where it met them they are
-/// not weighed at all (they stick on the fireflies), however good their own pilot looks, and the
-/// summary says why. The path tracer's own fireflies still rule it out.
-#[test]
-fn chains_over_the_path_tracer_are_not_weighed_on_its_fireflies() {
-    let a = |method, halves_relmse, firefly_share| Assessment {
-        method,
-        seconds: 1.0,
-        halves_relmse,
-        missing_relmse: 0.0,
-        firefly_share,
-    };
-    assert!(PT.traces_paths() && PATH_NAIVE.traces_paths() && !NAIVE.traces_paths());
-    let calm = [a(PT, 0.02, 0.3), a(NAIVE, 0.03, 0.0), a(PATH_NAIVE, 0.01, 0.0)];
-    assert!(!fireflies_met(&calm));
-    assert_eq!(most_efficient(&calm, 1.0, 1.0), PATH_NAIVE);
-    let tail = [a(PT, 0.02, 0.95), a(NAIVE, 0.03, 0.0), a(PATH_NAIVE, 0.01, 0.0)];
-    assert!(fireflies_met(&tail) && on_fireflies(&tail[2], true) && !on_fireflies(&tail[1], true));
-    assert_eq!(most_efficient(&tail, 1.0, 1.0), NAIVE);
-    // With the naive chains black, the path tracer (its fireflies and all), not the chains over it.
-    let dark = [a(PT, 0.02, 0.95), a(NAIVE, 0.0, 0.0), a(PATH_NAIVE, 0.01, 0.0)];
-    assert_eq!(most_efficient(&dark, 1.0, 1.0), PT);
-    let line = Choice {
-        method: NAIVE,
-        assessments: tail.to_vec(),
-        seconds: 1.0,
-        width: 4,
-        height: 4,
-        render_seconds: 1.0,
-        pixels: 1.0,
-    }
-    .describe();
-    assert!(
-        line.contains("pt 2.00e-2, fireflies, naive 3.00e-2, path-naive 1.00e-2, over pt's fireflies)"),
-        "{line}"
-    );
-}
-
 /// The share of a sum in its largest 0.1 % of terms (at least one).
 #[test]
 fn firefly_share_is_the_largest_terms_share() {
@@ -385,10 +351,10 @@ fn pilot_settings_and_budgets() {
         Budget::Seconds(t) => t,
         b => panic!("{b:?}"),
     };
-    // √(0.08 t) in all, six renders: 6 s of 450 s, 0.8 s of 8 s; at least 0.6 s.
-    assert!((seconds(pilot_budget(Budget::Seconds(450.0))) - 1.0).abs() < 1e-12);
-    assert!((seconds(pilot_budget(Budget::Seconds(8.0))) - 0.8 / 6.0).abs() < 1e-12);
-    assert_eq!(pilot_budget(Budget::Seconds(1.0)), Budget::Seconds(0.6 / 6.0));
+    // √(0.08 t) in all, four renders: 6 s of 450 s, 0.8 s of 8 s; at least 0.6 s.
+    assert!((seconds(pilot_budget(Budget::Seconds(450.0))) - 1.5).abs() < 1e-12);
+    assert!((seconds(pilot_budget(Budget::Seconds(8.0))) - 0.2).abs() < 1e-12);
+    assert_eq!(pilot_budget(Budget::Seconds(1.0)), Budget::Seconds(0.6 / 4.0));
     assert_eq!(pilot_budget(Budget::MutationsPerPixel(64.0)), Budget::MutationsPerPixel(8.0));
     assert_eq!(remaining_budget(Budget::Seconds(60.0), 6.5), Budget::Seconds(53.5));
     assert_eq!(remaining_budget(Budget::Seconds(4.0), 3.5), Budget::Seconds(1.0));
