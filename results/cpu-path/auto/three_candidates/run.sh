@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# (Run at e33e1a0, reverted by 7d6511b; SMLT built at e33e1a0, OLD at a022f10.)
+# (Run at e33e1a0, reverted by 06e9264; SMLT built at e33e1a0, OLD at a022f10.)
 # auto with the chains over the path tracer's estimate (`path-naive`) as a third candidate,
 # weighed only where the path tracer's pilot met no fireflies: every method of the auto bench on
 # its seven views (3 runs of 8 s each), and on each view right after it the previous commit's
