@@ -1107,3 +1107,54 @@ fn a_large_image_estimates_its_pixel_importance_in_blocks() {
     assert!(rgb.iter().all(|v| v.is_finite()) && rgb.iter().any(|&v| v > 0.0));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--method auto` keeps its pilot where the pilot rendered the render's pixels (a whole render
+/// at most 128 pixels wide): the summary says how many of the chosen method's paths or
+/// candidates it kept, and the image is the pool of the pilot's and the render's, each weighed
+/// by its candidates. With a `--mutations-per-pixel` budget the render is `--method <chosen>`'s
+/// with the same seed, so the pilot's image can be taken back out of the pool: it is an
+/// estimate of the same image (its mean within a tenth of the render's). A wider render's pilot
+/// is smaller than its image and is not kept.
+#[test]
+fn auto_keeps_its_pilot_where_it_rendered_the_renders_pixels() {
+    let dir = temp_dir("auto-kept");
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let base =
+        ["render", "--device", "cpu", "--width", "32", "--height", "24", "--mutations-per-pixel", "64"];
+    let (ok, stdout, stderr) = smlt(&[&base[..], &["--out", &path("auto.exr")]].concat());
+    assert!(ok, "{stderr}");
+    let value = |key: &str| -> f64 {
+        let line =
+            stdout.lines().find_map(|l| l.strip_prefix(key)).unwrap_or_else(|| panic!("{key}: {stdout}"));
+        line.split_whitespace().next().unwrap().parse().unwrap()
+    };
+    let chosen =
+        stdout.lines().find_map(|l| l.strip_prefix("method ")).unwrap().split_whitespace().next().unwrap();
+    let kept = value("pilot kept ");
+    let rendered = if chosen == "pt" { value("paths traced ") } else { value("candidates traced ") };
+    let (ok, _, stderr) = smlt(&[&base[..], &["--method", chosen, "--out", &path("named.exr")]].concat());
+    assert!(ok, "{stderr}");
+    let (_, _, pool) = smlt::output::read_exr(&dir.join("auto.exr")).unwrap();
+    let (_, _, render) = smlt::output::read_exr(&dir.join("named.exr")).unwrap();
+    assert_ne!(pool, render, "the pilot was pooled in");
+    let pilot: Vec<f64> = pool
+        .iter()
+        .zip(&render)
+        .map(|(p, r)| ((kept + rendered) * *p as f64 - rendered * *r as f64) / kept)
+        .collect();
+    let mean = |v: &mut dyn Iterator<Item = f64>| {
+        let (sum, n) = v.fold((0.0, 0.0), |(s, n), x| (s + x, n + 1.0));
+        sum / n
+    };
+    let (pilot_mean, render_mean) =
+        (mean(&mut pilot.iter().copied()), mean(&mut render.iter().map(|&v| v as f64)));
+    assert!(pilot.iter().all(|v| v.is_finite() && *v > -1e-3), "{chosen}: the pilot's image is an image");
+    assert!(
+        (pilot_mean / render_mean - 1.0).abs() < 0.1,
+        "{chosen}: pilot {pilot_mean} vs render {render_mean}"
+    );
+    let wide = ["render", "--device", "cpu", "--width", "160", "--height", "8", "--mutations-per-pixel", "8"];
+    let (ok, stdout, stderr) = smlt(&[&wide[..], &["--out", &path("wide.exr")]].concat());
+    assert!(ok && stdout.contains("chosen by auto") && !stdout.contains("pilot kept"), "{stdout}{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

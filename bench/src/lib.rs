@@ -30,6 +30,7 @@ use profile::{path_tracer_profile, profile, Profile, ProfiledBackend};
 use results::{final_row, Row, CSV_HEADER};
 use smlt::gpu::Gpu;
 use smlt::reference::{cached_or_render, read_sidecar, sidecar, ReferenceSettings};
+use smlt::render::auto::KeptPilot;
 use smlt::render::{self, Backend, Budget, Method, MethodChoice, Renderer, Settings};
 use smlt::scene::SceneData;
 
@@ -271,15 +272,21 @@ fn equal_time(
     // as the method it chose.
     let mut methods = Vec::new();
     let mut offsets = Vec::new();
+    // Auto's pilot image where its render keeps it, pooled into every image of it measured.
+    let mut kept = Vec::new();
     for m in &b.methods {
         let (method, offset) = match m {
-            MethodChoice::Named(m) => (*m, 0.0),
+            MethodChoice::Named(m) => {
+                kept.push(None);
+                (*m, 0.0)
+            }
             MethodChoice::Auto => {
                 let s = b.settings(Method::NAIVE, repeat, candidates);
                 let choice =
                     render::auto::choose(scene, &s, &mut |p| render::new_backend(gpu, scene, p, b.threads))?;
                 log(&format!("auto {label} v{view} repeat {repeat}: chose {}", choice.describe()));
                 choices.push(AutoChoice { scene: label.to_string(), view, repeat, choice: choice.clone() });
+                kept.push(choice.kept);
                 (choice.method, choice.seconds)
             }
         };
@@ -312,6 +319,7 @@ fn equal_time(
                 r.iterate()?;
             }
             let image = r.snapshot()?;
+            let rgb = KeptPilot::image(kept[i].as_ref(), &image).into_owned();
             let st = &image.stats;
             let row = Row {
                 scene: label.to_string(),
@@ -323,14 +331,14 @@ fn equal_time(
                 steps: st.steps,
                 mutations_per_s: st.candidates as f64 / st.render_seconds,
                 steps_per_s: st.steps / st.render_seconds,
-                errors: errors(&image.rgb, reference),
+                errors: errors(&rgb, reference),
                 nan_inf: st.invalid,
                 b: st.b,
                 b_rel_se: st.b_relative_standard_error(),
             };
             log(&row.csv());
             rows.push(row);
-            last[i] = image.rgb;
+            last[i] = rgb;
         }
     }
     // Inside an iteration: per-pass device times and the ray-casting ceiling, after the

@@ -11,6 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::args::{exposure, positive_f64, ChainArgs, DeviceArgs, ImageArgs, PathArgs, SceneArgs};
 use smlt::output::Exposure;
+use smlt::render::auto::KeptPilot;
 use smlt::render::{self, Budget, Integrator, Method, MethodChoice, Settings, Shard};
 
 /// `smlt render`'s flags.
@@ -78,6 +79,8 @@ struct CliObserver<'a> {
     out: &'a Path,
     exposure: Option<f32>,
     checkpoints: Rc<Cell<u32>>,
+    /// Auto's pilot, pooled into every image written.
+    kept: Option<&'a KeptPilot>,
 }
 
 impl render::Observer for CliObserver<'_> {
@@ -114,7 +117,8 @@ impl render::Observer for CliObserver<'_> {
 
     fn checkpoint(&mut self, image: &render::Rendered) {
         let exposure = self.exposure.map_or(Exposure::Auto, Exposure::Ev);
-        match smlt::output::write_images_exposed(self.out, image.width, image.height, &image.rgb, exposure) {
+        let rgb = KeptPilot::image(self.kept, image);
+        match smlt::output::write_images_exposed(self.out, image.width, image.height, &rgb, exposure) {
             Ok(_) => self.checkpoints.set(self.checkpoints.get() + 1),
             Err(e) => self.bar.println(format!("warning: checkpoint not written: {e}")),
         }
@@ -247,6 +251,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         out: &out,
         exposure: a.exposure,
         checkpoints: checkpoints.clone(),
+        kept: chosen.as_ref().and_then(|c| c.kept.as_ref()),
     };
     let result = render::render(&scene, &settings, backend.as_mut(), observer)?;
     bar.finish_and_clear();
@@ -264,7 +269,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 &out,
                 result.width,
                 result.height,
-                &result.rgb,
+                &KeptPilot::image(chosen.as_ref().and_then(|c| c.kept.as_ref()), &result),
                 a.exposure.map_or(Exposure::Auto, Exposure::Ev),
             )?;
             format!(
@@ -280,6 +285,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "method               {} (chosen by auto; its pilot {:.2} s)",
             choice.method, choice.seconds
         );
+        if let Some(kept) = &choice.kept {
+            println!(
+                "pilot kept           {} {} of {}'s pilot, pooled into the image",
+                kept.candidates,
+                if settings.metropolis().is_some() { "candidates" } else { "paths" },
+                choice.method
+            );
+        }
     }
     print_summary(&result, &settings);
     if on_device {

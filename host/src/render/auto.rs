@@ -23,9 +23,10 @@
 //! From them each candidate's relMSE (as the bench measures it) is predicted for the render
 //! ahead ([`Assessment::predicted_relmse`]: the variance scaled to the render's time and
 //! pixels, the light missing kept), and the candidate predicted best renders the image: the render is
-//! exactly `--method <chosen>`'s with the same seed, so that it can be reproduced, and the
-//! pilot's samples are not kept (its images are smaller than the render's, and a Metropolis
-//! pilot's chains are not the render's). The pilot's wall time counts against a `--time`
+//! `--method <chosen>`'s with the same seed, so that it can be reproduced, and where the pilot
+//! rendered at the render's size (a render at most [`PILOT_WIDTH`] wide, not a shard) the
+//! chosen candidate's pilot image is pooled into it ([`KeptPilot`]); a larger render's pilot is
+//! smaller than its image and is not kept. The pilot's wall time counts against a `--time`
 //! budget. Its Metropolis renders prepare their chains (the pixel importance and the bootstrap)
 //! through the CPU's fastest caster: a pilot is never sharded, and through the device's own
 //! traversal, which a render's preparation takes so that its shards agree, the four
@@ -33,6 +34,7 @@
 //! rendering). Their pixel importance is the path tracer's pilot image, which the pilot renders
 //! first ([`Preparation::FastFrom`]): each estimating its own took as long again as it rendered.
 
+use std::borrow::Cow;
 use std::time::Instant;
 
 use glam::Vec3;
@@ -40,7 +42,8 @@ use shared::color::luminance;
 use shared::params::RenderParams;
 
 use super::{
-    render_with, Backend, Budget, Method, Preparation, RenderError, Settings, Shard, DEFAULT_BOOTSTRAP,
+    render_with, Backend, Budget, Method, Preparation, RenderError, Rendered, Settings, Shard,
+    DEFAULT_BOOTSTRAP,
 };
 use crate::scene::SceneData;
 
@@ -85,6 +88,8 @@ pub struct PilotRun {
     pub halves: [Vec<f32>; 2],
     /// Render seconds of both halves (their iterations, as the bench counts time).
     pub seconds: f64,
+    /// Candidates (paths, for the path tracer) each half traced.
+    pub candidates: [u64; 2],
 }
 
 /// What the pilot estimated of one candidate.
@@ -168,6 +173,70 @@ pub struct Choice {
     pub render_seconds: f64,
     /// The render's pixels over the pilot's.
     pub pixels: f64,
+    /// The chosen candidate's pilot samples, where the render keeps them ([`KeptPilot::of`]).
+    pub kept: Option<KeptPilot>,
+}
+
+/// The chosen candidate's pilot image, which the render keeps: both halves are the chosen
+/// method's own estimates of the render's pixels, rendered with seeds of their own, so pooled
+/// with the render's image ([`pooled`]) they are as unbiased as it is and less noisy. A path
+/// tracer's pilot is pooled exactly (its paths are the render's kind); a Metropolis pilot's
+/// chains are fewer than the render's ([`pilot_settings`]) but estimate the same image, and at a
+/// pilot's share of the candidates (a tenth of an 8 s render's, less in longer ones) its weight
+/// is that share.
+#[derive(Clone, Debug)]
+pub struct KeptPilot {
+    /// Linear rgb: the halves pooled by their candidates.
+    pub rgb: Vec<f32>,
+    /// Candidates both halves traced.
+    pub candidates: u64,
+}
+
+impl KeptPilot {
+    /// The pilot of `chosen` among `runs`, for a render of `s` at the pilot's size
+    /// (`width` × `height`): kept where the pilot's image is the render's (a render at most
+    /// [`PILOT_WIDTH`] wide) and the render is whole. A shard's pilot is not kept: every shard
+    /// renders its own, and the parts merge into the unsplit render of the method chosen
+    /// (`smlt merge`), which has none.
+    pub fn of(runs: &[PilotRun], chosen: Method, s: &Settings, width: u32, height: u32) -> Option<KeptPilot> {
+        if (width, height) != (s.width, s.height) || s.shard != Shard::WHOLE {
+            return None;
+        }
+        let run = runs.iter().find(|r| r.method == chosen)?;
+        let halves = [(&run.halves[0][..], run.candidates[0]), (&run.halves[1][..], run.candidates[1])];
+        Some(KeptPilot { rgb: pooled(&halves), candidates: run.candidates.iter().sum() })
+    }
+
+    /// The render's image `rgb`, of `candidates` candidates, with the pilot's pooled in
+    /// ([`pooled`]).
+    pub fn pooled_with(&self, rgb: &[f32], candidates: u64) -> Vec<f32> {
+        pooled(&[(&self.rgb, self.candidates), (rgb, candidates)])
+    }
+
+    /// The linear rgb of `rendered` with `kept` pooled in where there is one.
+    pub fn image<'r>(kept: Option<&KeptPilot>, rendered: &'r Rendered) -> Cow<'r, [f32]> {
+        match kept {
+            Some(k) => Cow::Owned(k.pooled_with(&rendered.rgb, rendered.stats.candidates)),
+            None => Cow::Borrowed(&rendered.rgb),
+        }
+    }
+}
+
+/// Images of the same pixels by one method, each with the candidates it traced, pooled: their
+/// mean weighted by the candidates. A path tracer's image is its pixels' sample means, so this
+/// is the mean of all their samples; for a Metropolis image it weighs each by its share of the
+/// mutations. Images with no candidates are left out; none at all give black.
+pub fn pooled(images: &[(&[f32], u64)]) -> Vec<f32> {
+    let n = images.first().map_or(0, |(rgb, _)| rgb.len());
+    let total: u64 = images.iter().map(|(_, c)| c).sum();
+    let mut out = vec![0.0f64; n];
+    for (rgb, c) in images.iter().filter(|(_, c)| *c > 0) {
+        let w = *c as f64 / total as f64;
+        for (o, v) in out.iter_mut().zip(rgb.iter()) {
+            *o += w * *v as f64;
+        }
+    }
+    out.into_iter().map(|v| v as f32).collect()
 }
 
 impl Choice {
@@ -484,6 +553,7 @@ pub fn run_pilot<'a>(
     let mut luminance: Option<Vec<f32>> = None;
     for method in CANDIDATES {
         let mut halves = [Vec::new(), Vec::new()];
+        let mut candidates = [0; 2];
         let mut seconds = 0.0;
         for half in 0..2 {
             let p = pilot_settings(s, method, half, budget);
@@ -492,13 +562,14 @@ pub fn run_pilot<'a>(
             let preparation = luminance.as_deref().map_or(Preparation::Fast, Preparation::FastFrom);
             let image = render_with(scene, &p, b.as_mut(), |_: f64| {}, preparation)?;
             seconds += image.stats.render_seconds;
+            candidates[half as usize] = image.stats.candidates;
             pilot.compile_seconds += image.stats.compile_seconds.unwrap_or(0.0);
             halves[half as usize] = image.rgb;
         }
         if method == Method::PathTracer {
             luminance = Some(mean_luminance(&halves));
         }
-        pilot.runs.push(PilotRun { method, halves, seconds });
+        pilot.runs.push(PilotRun { method, halves, seconds, candidates });
     }
     Ok(pilot)
 }
@@ -524,8 +595,10 @@ pub fn choose<'a>(
             pilot / PILOT_MUTATIONS_SHARE * pixels
         }
     };
+    let method = most_efficient(&assessments, render_seconds, pixels);
     Ok(Choice {
-        method: most_efficient(&assessments, render_seconds, pixels),
+        method,
+        kept: KeptPilot::of(&pilot.runs, method, s, pilot.width, pilot.height),
         assessments,
         seconds,
         width: pilot.width,

@@ -29,7 +29,7 @@ fn run(
 ) -> PilotRun {
     let mut half =
         || truth.iter().zip(missing).map(|(r, m)| (r - m + sigma * noise.normal()) as f32).collect();
-    PilotRun { method, halves: [half(), half()], seconds }
+    PilotRun { method, halves: [half(), half()], seconds, candidates: [1, 1] }
 }
 
 /// The relMSE of a candidate's mean as `run` makes it against relMSE's denominator from
@@ -159,6 +159,7 @@ fn a_candidate_missing_light_is_caught_by_the_others() {
             height: 4,
             render_seconds: 1.0,
             pixels: 1.0,
+            kept: None,
         }
         .describe();
         assert!(line.starts_with(&format!("{chosen} (pilot 3.00 s at 4×4")), "{line}");
@@ -180,7 +181,7 @@ fn a_skewed_candidate_does_not_make_another_look_dark() {
     let none = vec![0.0; n];
     let mut clumped =
         || -> Vec<f32> { r.iter().map(|v| (v * (noise.normal() - 0.5).exp()) as f32).collect() };
-    let skewed = PilotRun { method: NAIVE, halves: [clumped(), clumped()], seconds: 1.0 };
+    let skewed = PilotRun { method: NAIVE, halves: [clumped(), clumped()], seconds: 1.0, candidates: [1, 1] };
     let runs =
         [run(PT, &r, &none, 0.15, 1.0, &mut noise), skewed, run(PATH_NAIVE, &r, &none, 0.3, 1.0, &mut noise)];
     let assessed = assess(&runs, WIDTH);
@@ -266,6 +267,7 @@ fn a_path_tracer_that_met_fireflies_is_not_measured() {
         height: 4,
         render_seconds: 1.0,
         pixels: 1.0,
+        kept: None,
     }
     .describe();
     assert!(line.contains("pt 1.00e-2, fireflies, naive 4.00e-2)"), "{line}");
@@ -304,7 +306,12 @@ fn a_block_counts_missing_light_beyond_its_noise() {
 /// the paper's naive chains.
 #[test]
 fn black_pilots_fall_back_to_naive() {
-    let black = |method| PilotRun { method, halves: [vec![0.0; 12], vec![0.0; 12]], seconds: 1.0 };
+    let black = |method| PilotRun {
+        method,
+        halves: [vec![0.0; 12], vec![0.0; 12]],
+        seconds: 1.0,
+        candidates: [1, 1],
+    };
     let assessed = assess(&[black(PT), black(NAIVE), black(PATH_NAIVE)], 2);
     assert_eq!(most_efficient(&assessed, 1.0, 1.0), Method::NAIVE);
     let mut lit = black(PATH_NAIVE);
@@ -379,4 +386,45 @@ fn missing_light_counts_more_the_longer_the_render() {
     assert_eq!(most_efficient(&assessed, 100.0, 1.0), NAIVE, "0.0011 against 0.0004");
     assert_eq!(most_efficient(&assessed, 100.0, 100.0), PT, "0.011 against 0.04");
     assert!((assessed[0].predicted_relmse(10.0, 4.0) - (0.01 * 0.4 + 0.001)).abs() < 1e-12);
+}
+
+/// Pooled images weigh each by its candidates: for a path tracer's, whose pixels are sample
+/// means, the mean of all the samples; an image with none is left out.
+#[test]
+fn pooled_images_are_their_samples_mean() {
+    // Three images of two values, the means of 1, 3 and 4 samples.
+    let samples: [&[[f32; 2]]; 3] = [&[[1.0, 2.0]], &[[2.0, 0.0], [4.0, 1.0], [0.0, 2.0]], &[[1.0, 1.0]; 4]];
+    let mean = |s: &[[f32; 2]]| -> Vec<f32> {
+        (0..2).map(|c| s.iter().map(|v| v[c]).sum::<f32>() / s.len() as f32).collect()
+    };
+    let images: Vec<(Vec<f32>, u64)> = samples.iter().map(|s| (mean(s), s.len() as u64)).collect();
+    let refs: Vec<(&[f32], u64)> = images.iter().map(|(rgb, c)| (&rgb[..], *c)).collect();
+    let all: Vec<[f32; 2]> = samples.iter().flat_map(|s| s.iter().copied()).collect();
+    for (p, m) in pooled(&refs).iter().zip(mean(&all)) {
+        assert!((p - m).abs() < 1e-6, "{p} vs {m}");
+    }
+    assert_eq!(pooled(&[(&[5.0, 6.0], 0), (&[1.0, 2.0], 3)]), vec![1.0, 2.0]);
+    assert_eq!(pooled(&[(&[5.0, 6.0], 0)]), vec![0.0, 0.0]);
+}
+
+/// The chosen candidate's pilot is kept where it rendered the render's pixels — a whole render
+/// at most PILOT_WIDTH wide — pooled from its halves by their candidates, and pooled into the
+/// render's image by its own.
+#[test]
+fn the_pilot_is_kept_where_it_rendered_the_renders_pixels() {
+    let runs = [PT, NAIVE].map(|method| PilotRun {
+        method,
+        halves: [vec![1.0, 4.0, 0.0], vec![3.0, 0.0, 0.0]],
+        seconds: 1.0,
+        candidates: if method == PT { [10, 30] } else { [1, 1] },
+    });
+    let s = Settings { width: 1, height: 1, ..Settings::default() };
+    let kept = KeptPilot::of(&runs, PT, &s, 1, 1).expect("kept");
+    assert_eq!((kept.rgb.as_slice(), kept.candidates), (&[2.5, 1.0, 0.0][..], 40));
+    assert_eq!(kept.pooled_with(&[0.5, 1.0, 2.0], 40), vec![1.5, 1.0, 1.0]);
+    assert_eq!(KeptPilot::of(&runs, NAIVE, &s, 1, 1).unwrap().rgb, vec![2.0, 2.0, 0.0]);
+    // A larger render than its pilot, or a shard of one: not kept.
+    assert!(KeptPilot::of(&runs, PT, &Settings { width: 2, ..s.clone() }, 1, 1).is_none());
+    let shard = Settings { shard: Shard { index: 1, count: 2 }, ..s.clone() };
+    assert!(KeptPilot::of(&runs, PT, &shard, 1, 1).is_none());
 }
