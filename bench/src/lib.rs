@@ -218,7 +218,7 @@ pub struct AutoChoice {
 impl AutoChoice {
     /// `auto.csv`'s header.
     pub const CSV_HEADER: &'static str =
-        "scene,view,repeat,chosen,pilot_seconds,method,pilot_render_seconds,halves_relmse,missing_relmse,firefly_share,predicted_relmse";
+        "scene,view,repeat,chosen,pilot_seconds,method,pilot_render_seconds,halves_relmse,missing_relmse,firefly_share,predicted_relmse,kept_candidates";
 
     /// One line per candidate.
     pub fn csv(&self) -> Vec<String> {
@@ -227,7 +227,7 @@ impl AutoChoice {
             .iter()
             .map(|a| {
                 format!(
-                    "{},{},{},{},{:.3},{},{:.3},{:.4e},{:.4e},{:.3},{:.4e}",
+                    "{},{},{},{},{:.3},{},{:.3},{:.4e},{:.4e},{:.3},{:.4e},{}",
                     self.scene,
                     self.view,
                     self.repeat,
@@ -238,7 +238,9 @@ impl AutoChoice {
                     a.halves_relmse,
                     a.missing_relmse,
                     a.firefly_share,
-                    a.predicted_relmse(c.render_seconds, c.pixels)
+                    a.predicted_relmse(c.render_seconds, c.pixels),
+                    // The chosen candidate's pilot candidates pooled into the render (0: none).
+                    c.kept.as_ref().filter(|_| a.method == c.method).map_or(0, |k| k.candidates)
                 )
             })
             .collect()
@@ -444,4 +446,40 @@ fn write_results(
     }
     std::fs::write(b.out.join("tables.md"), tables)?;
     plots::plot(rows, &b.out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use render::auto::{Assessment, Choice, KeptPilot};
+
+    /// `auto.csv`: a line per candidate, as many fields as its header, the candidates its
+    /// render pooled from the pilot on the chosen one's line only.
+    #[test]
+    fn auto_csv_lines_match_their_header() {
+        let assessment = |method| Assessment {
+            method,
+            seconds: 0.4,
+            halves_relmse: 0.1,
+            missing_relmse: 0.0,
+            firefly_share: 0.2,
+        };
+        let choice = Choice {
+            method: Method::PathTracer,
+            assessments: vec![assessment(Method::PathTracer), assessment(Method::NAIVE)],
+            seconds: 0.8,
+            width: 8,
+            height: 6,
+            render_seconds: 7.2,
+            pixels: 1.0,
+            kept: Some(KeptPilot { rgb: vec![0.0; 144], candidates: 960 }),
+        };
+        let lines = AutoChoice { scene: "s".into(), view: 1, repeat: 0, choice }.csv();
+        let fields = AutoChoice::CSV_HEADER.split(',').count();
+        assert_eq!(lines.len(), 2);
+        for (line, kept) in lines.iter().zip(["960", "0"]) {
+            let f: Vec<&str> = line.split(',').collect();
+            assert_eq!((f.len(), f[f.len() - 1]), (fields, kept), "{line}");
+        }
+    }
 }
