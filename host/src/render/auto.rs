@@ -181,9 +181,9 @@ pub struct Choice {
 /// method's own estimates of the render's pixels, rendered with seeds of their own, so pooled
 /// with the render's image ([`pooled`]) they are as unbiased as it is and less noisy. A path
 /// tracer's pilot is pooled exactly (its paths are the render's kind); a Metropolis pilot's
-/// chains are fewer than the render's ([`pilot_settings`]) but estimate the same image, and at a
-/// pilot's share of the candidates (a tenth of an 8 s render's, less in longer ones) its weight
-/// is that share.
+/// chains are fewer than the render's ([`pilot_settings`]) but estimate the same image, and its
+/// weight is its share of the candidates (some 5 % in an 8 s render: half of a pilot of a tenth
+/// of it; less in longer ones, whose pilot is a smaller share).
 #[derive(Clone, Debug)]
 pub struct KeptPilot {
     /// Linear rgb: the halves pooled by their candidates.
