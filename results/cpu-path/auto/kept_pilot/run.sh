@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# (Run at 2f0190b; SMLT built at 2f0190b, OLD at a022f10.)
+# (Run at 5f205fd; SMLT built at 5f205fd, OLD at a022f10.)
 # auto keeping the chosen method's pilot where it rendered the render's pixels (128×72 here, so
 # the pilot is at the render's size) against the previous commit's auto (the same choice, its
 # pilot discarded), on the auto bench's seven views: ../both_autos.sh, whose description says

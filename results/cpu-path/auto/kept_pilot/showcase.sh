@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# (Run at 2f0190b after run.sh; SMLT built at 2f0190b, OLD at a022f10.)
+# (Run at 5f205fd after run.sh; SMLT built at 5f205fd, OLD at a022f10.)
 # The lamps' showcase with auto keeping its pilot (128×96, so the pilot is at the render's
 # size): scripts/showcase.sh with this commit's smlt (its bench of auto, pt, naive, s3 and
 # path-naive, then Mitsuba 3 where the peers' packages are installed; the README's picture cut
