@@ -571,62 +571,69 @@ fn above_coat(f: Normals, w: Vec3) -> bool {
     f.coat.dot(w) > 0.0 && f.geometric.dot(w) > 0.0
 }
 
-/// f(wo, wi) of the material's lobes without its layers ([`bsdf_eval`]).
+/// f(wo, wi) of the material's lobes without its layers ([`bsdf_eval`]): [`base_eval_pdf`]'s f.
+#[inline(always)]
+fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
+    base_eval_pdf(m, n, wo, wi, radiance).0
+}
+
+/// f(wo, wi) of the material's lobes without its layers and the density of sampling `wi`
+/// from them ([`bsdf_eval_pdf`]): one pass over the normals' sides, the lobe's frame and its
+/// local directions for both, as a light sample's weight and a BSDF sample's value take them.
+/// [`base_eval`] and [`base_pdf`] are its parts; the unused part is dead code where it is
+/// inlined (on the device too: `spirv-opt` inlines and removes it).
 // Calls on the device, not copies at every call site: the module stays ~20 % smaller; on the
-// host the unlayered path of `bsdf_eval`, whole.
+// host the unlayered path of `bsdf_eval` and `bsdf_pdf`, whole.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline(always))]
-fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
+fn base_eval_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> (Vec3, f32) {
+    let none = (Vec3::ZERO, 0.0);
     let Some(ns) = shading_side(n, wo) else {
-        return Vec3::ZERO;
+        return none;
     };
     if !sides_agree(n, wo, wi) {
-        return Vec3::ZERO;
+        return none;
     }
     let t = m.transmission;
     if m.is_rough_dielectric() {
         let eta = relative_ior(m, n.geometric, wo);
         let frame = LobeFrame::new(ns, n.anisotropy);
         let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
-        let (f, transmits) = rough_dielectric_eval(m.alphas(), eta, wo_l, wi_l, radiance, m.thin_walled != 0);
+        let thin = m.thin_walled != 0;
+        let (f, transmits) = rough_dielectric_eval(m.alphas(), eta, wo_l, wi_l, radiance, thin);
         let tint = if transmits { Vec3::from_array(m.albedo) } else { Vec3::ONE };
-        return tint * (t * f) + brdf_eval(m, n, ns, wo, wi) * (1.0 - t);
+        let rough = t * rough_dielectric_pdf(m.alphas(), eta, wo_l, wi_l, thin);
+        let (f_brdf, pdf_brdf) = brdf_eval_pdf(m, n, ns, wo, wi);
+        return (tint * (t * f) + f_brdf * (1.0 - t), rough + (1.0 - t) * pdf_brdf);
     }
     if t > 0.0 {
-        brdf_eval(m, n, ns, wo, wi) * (1.0 - t)
+        let (f_brdf, pdf_brdf) = brdf_eval_pdf(m, n, ns, wo, wi);
+        (f_brdf * (1.0 - t), (1.0 - t) * pdf_brdf)
     } else if m.phong_exponent > 0.0 {
         if ns.dot(wi) <= 0.0 {
-            return Vec3::ZERO;
+            return none;
         }
         let e = m.phong_exponent;
-        Vec3::from_array(m.albedo) * ((e + 2.0) / (2.0 * PI) * phong_lobe(e, reflect(wo, ns), wi))
+        let lobe = phong_lobe(e, reflect(wo, ns), wi);
+        (Vec3::from_array(m.albedo) * ((e + 2.0) / (2.0 * PI) * lobe), (e + 1.0) / (2.0 * PI) * lobe)
     } else {
-        brdf_eval(m, n, ns, wo, wi)
+        brdf_eval_pdf(m, n, ns, wo, wi)
     }
 }
 
-/// The glTF BRDF's f(wo, wi) for wo on the side of the unit normal `ns` (`n` for the lobe's
-/// anisotropy).
+/// The glTF BRDF's f(wo, wi) and its sampling's density of wi, for wo on the side of the unit
+/// normal `ns` (`n` for the lobe's anisotropy).
 // Always: the Lambert test is a few compares, and a call here cost the path tracer 3 %.
 #[inline(always)]
-fn brdf_eval(m: &Material, n: Normals, ns: Vec3, wo: Vec3, wi: Vec3) -> Vec3 {
-    if m.is_lambertian() {
-        return if ns.dot(wi) > 0.0 { Vec3::from_array(m.albedo) / PI } else { Vec3::ZERO };
-    }
-    let frame = LobeFrame::new(ns, n.anisotropy);
-    brdf::eval(&m.brdf(), frame.to_local(wo), frame.to_local(wi))
-}
-
-/// The density of the glTF BRDF's sampling of wi for wo on the side of the unit normal `ns`.
-// Always: the Lambert test is a few compares, and a call here cost the path tracer 3 %.
-#[inline(always)]
-fn brdf_pdf(m: &Material, n: Normals, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
+fn brdf_eval_pdf(m: &Material, n: Normals, ns: Vec3, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
     if m.is_lambertian() {
         let cos_i = ns.dot(wi);
-        return if cos_i > 0.0 { cos_i / PI } else { 0.0 };
+        return if cos_i > 0.0 { (Vec3::from_array(m.albedo) / PI, cos_i / PI) } else { (Vec3::ZERO, 0.0) };
     }
     let frame = LobeFrame::new(ns, n.anisotropy);
-    brdf::pdf(&m.brdf(), frame.to_local(wo), frame.to_local(wi))
+    let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
+    let b = m.brdf();
+    (brdf::eval(&b, wo_l, wi_l), brdf::pdf(&b, wo_l, wi_l))
 }
 
 /// Solid-angle density with which [`bsdf_sample`] picks `wi` given `wo`, without the delta
@@ -639,6 +646,17 @@ pub fn bsdf_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
         return layered_pdf(m, n, wo, wi);
     }
     base_pdf(m, n, wo, wi)
+}
+
+/// [`bsdf_eval`] and [`bsdf_pdf`] of the same directions at once, sharing their work: a light
+/// sample's value and its weight against the BSDF's sampling; the value of a direction the BSDF
+/// sampled and its density.
+#[inline]
+pub fn bsdf_eval_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> (Vec3, f32) {
+    if m.is_layered() {
+        return (layered_eval(m, n, wo, wi, radiance), layered_pdf(m, n, wo, wi));
+    }
+    base_eval_pdf(m, n, wo, wi, radiance)
 }
 
 /// [`bsdf_pdf`] of a material with layers: the density of its lobes beneath them, the sheen's
@@ -675,37 +693,11 @@ fn layered_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
     (1.0 - p) * under + p * layer
 }
 
-/// The density of sampling `wi` from the material's lobes without its layers ([`bsdf_pdf`]).
-// Calls on the device, not copies at every call site: the module stays ~20 % smaller; on the
-// host the unlayered path of `bsdf_pdf`, whole.
-#[cfg_attr(target_arch = "spirv", inline(never))]
-#[cfg_attr(not(target_arch = "spirv"), inline(always))]
+/// The density of sampling `wi` from the material's lobes without its layers ([`bsdf_pdf`]):
+/// [`base_eval_pdf`]'s density.
+#[inline(always)]
 fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
-    let Some(ns) = shading_side(n, wo) else {
-        return 0.0;
-    };
-    if !sides_agree(n, wo, wi) {
-        return 0.0;
-    }
-    let t = m.transmission;
-    if m.is_rough_dielectric() {
-        let eta = relative_ior(m, n.geometric, wo);
-        let frame = LobeFrame::new(ns, n.anisotropy);
-        let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
-        let rough = t * rough_dielectric_pdf(m.alphas(), eta, wo_l, wi_l, m.thin_walled != 0);
-        return rough + (1.0 - t) * brdf_pdf(m, n, ns, wo, wi);
-    }
-    if t > 0.0 {
-        (1.0 - t) * brdf_pdf(m, n, ns, wo, wi)
-    } else if m.phong_exponent > 0.0 {
-        if ns.dot(wi) <= 0.0 {
-            return 0.0;
-        }
-        let e = m.phong_exponent;
-        (e + 1.0) / (2.0 * PI) * phong_lobe(e, reflect(wo, ns), wi)
-    } else {
-        brdf_pdf(m, n, ns, wo, wi)
-    }
+    base_eval_pdf(m, n, wo, wi, true).1
 }
 
 /// Unpolarised Fresnel reflectance of a smooth dielectric boundary for light at cosine
@@ -856,11 +848,11 @@ pub fn bsdf_sample(m: &Material, n: Normals, wo: Vec3, u: Vec2, radiance: bool) 
         return choice.sample;
     }
     let wi = choice.sample.wi;
-    let pdf = bsdf_pdf(m, n, wo, wi);
+    let (f, pdf) = bsdf_eval_pdf(m, n, wo, wi, radiance);
     if !(pdf > 0.0) {
         return BsdfSample::default();
     }
-    BsdfSample { wi, f: bsdf_eval(m, n, wo, wi, radiance), pdf, delta: false }
+    BsdfSample { wi, f, pdf, delta: false }
 }
 
 /// The lobes beneath the layers' sample, `ns` the shading normal on `wo`'s side.

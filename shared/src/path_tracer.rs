@@ -21,7 +21,7 @@ use spirv_std::num_traits::Float;
 use glam::{Vec2, Vec3};
 
 use crate::bsdf::Material;
-use crate::bsdf::{bsdf_eval, bsdf_pdf, bsdf_sample, medium_coefficient, transmittance};
+use crate::bsdf::{bsdf_eval_pdf, bsdf_sample, medium_coefficient, transmittance};
 use crate::camera::Camera;
 use crate::cutout::blend_key;
 use crate::light::emitted;
@@ -187,9 +187,8 @@ pub struct PathState {
 }
 
 /// A light sample's shadow ray from a path's vertex, and what it adds to the path's radiance when
-/// nothing blocks it ([`PathState::resolve`]): `scale · (cos · w / pdf)`, w the power heuristic
-/// of `pdf` against the BSDF's density of the sample (1 for a delta light), evaluated only then:
-/// most shadow rays of an interior are blocked.
+/// nothing blocks it ([`PathState::resolve`]): the light sample's whole contribution, weighed
+/// by the power heuristic against the BSDF's density of it (1 for a delta light) as it is cast.
 #[derive(Clone, Copy)]
 pub struct ShadowRay {
     /// Whether there is a ray to cast (false: the light sample adds nothing).
@@ -202,15 +201,8 @@ pub struct ShadowRay {
     pub tmax: f32,
     /// The key of its cut-out draws.
     pub key: u32,
-    scale: Vec3,
-    cosine: f32,
-    pdf: f32,
-    // Multiple importance sampling against the BSDF (not for a delta light).
-    weighted: bool,
-    material: Material,
-    normals: Normals,
-    wo: Vec3,
-    wi: Vec3,
+    // The radiance it adds where nothing blocks it.
+    light: Vec3,
 }
 
 impl ShadowRay {
@@ -223,14 +215,7 @@ impl ShadowRay {
             direction: Vec3::Z,
             tmax: 0.0,
             key: 0,
-            scale: Vec3::ZERO,
-            cosine: 0.0,
-            pdf: 0.0,
-            weighted: false,
-            material: Material::default(),
-            normals: Normals::flat(Vec3::Z),
-            wo: Vec3::Z,
-            wi: Vec3::Z,
+            light: Vec3::ZERO,
         }
     }
 }
@@ -360,24 +345,6 @@ impl PathState {
         let n = normals.geometric;
         let ls = sample_light(scene, settings.light_count, u[0], Vec2::new(u[1], u[2]));
         let key = blend_key(Vec2::new(u[1], u[2]));
-        let shadow =
-            |origin: Vec3, direction: Vec3, tmax: f32, scale: Vec3, wi: Vec3, pdf: f32, weighted: bool| {
-                ShadowRay {
-                    cast: true,
-                    origin,
-                    direction,
-                    tmax,
-                    key,
-                    scale,
-                    cosine: scattering_cosine(normals, wo, wi, true),
-                    pdf,
-                    weighted,
-                    material: m,
-                    normals,
-                    wo,
-                    wi,
-                }
-            };
         // The light's direction, what arrives along it, its density (a delta light's: the
         // pick) and where the shadow ray ends: out of the scene's bounds towards the
         // environment, else at `target`.
@@ -406,38 +373,35 @@ impl PathState {
             return ShadowRay::none();
         }
         // One evaluation for every kind of light: each call is a copy of the material code in
-        // the device's compiled stage.
-        let f = bsdf_eval(&m, normals, wo, wi, true);
+        // the device's compiled stage. The BSDF's density with it, for the weight: computed for
+        // every shadow ray (most of an interior's are blocked) costs less than carrying the
+        // material and both directions to the blocked test, and shares the evaluation's work.
+        let (f, pdf_bsdf) = bsdf_eval_pdf(&m, normals, wo, wi, true);
         if !(f.max_element() > 0.0) {
             return ShadowRay::none();
         }
+        let weight = if weighted { power_heuristic(pdf, pdf_bsdf) } else { 1.0 };
+        let light = self.beta * f * arriving * (scattering_cosine(normals, wo, wi, true) * weight / pdf);
         let from = spawn(p, n, wi, settings.epsilon);
-        if beyond {
-            let reach = (scene.environment.beyond(from, wi) - from).length();
-            return shadow(from, wi, reach, self.beta * f * arriving, wi, pdf, weighted);
-        }
-        let span = target - from;
-        let len = span.length();
-        if !(len > 0.0) {
-            return ShadowRay::none();
-        }
-        shadow(from, span / len, len, self.beta * f * arriving, wi, pdf, weighted)
+        let (direction, tmax) = if beyond {
+            (wi, (scene.environment.beyond(from, wi) - from).length())
+        } else {
+            let span = target - from;
+            let len = span.length();
+            if !(len > 0.0) {
+                return ShadowRay::none();
+            }
+            (span / len, len)
+        };
+        ShadowRay { cast: true, origin: from, direction, tmax, key, light }
     }
 
     /// Takes the answer to `shadow`'s ray: its light when nothing blocks it.
     #[inline]
     pub fn resolve(&mut self, shadow: &ShadowRay, occluded: bool) {
-        if !shadow.cast || occluded {
-            return;
+        if shadow.cast && !occluded {
+            self.radiance += shadow.light;
         }
-        let weight = if shadow.weighted {
-            // A local copy: the device cannot pass a pointer into a struct to a function.
-            let m = shadow.material;
-            power_heuristic(shadow.pdf, bsdf_pdf(&m, shadow.normals, shadow.wo, shadow.wi))
-        } else {
-            1.0
-        };
-        self.radiance += shadow.scale * (shadow.cosine * weight / shadow.pdf);
     }
 }
 

@@ -699,3 +699,32 @@ fn shading_normal_samples_agree_with_eval_and_pdf() {
         assert!(found > 1000, "{m:?}: {found} samples");
     }
 }
+
+/// [`bsdf_eval_pdf`] is [`bsdf_eval`] and [`bsdf_pdf`] at once, to the bit: on the shading
+/// tests' materials, a Phong lobe, a coated metal, a sheen over Lambert and a half-transmitting
+/// rough glass, in both transport modes, directions all round a tilted shading normal.
+#[test]
+fn eval_pdf_is_eval_and_pdf_to_the_bit() {
+    let (n, sphere) = tilted();
+    let mut cases = shading_cases().to_vec();
+    cases.extend([
+        phong(50.0),
+        Material { clearcoat: 0.8, clearcoat_alpha: 0.04, ..metal() },
+        Material { sheen_color: [0.5, 0.4, 0.3], sheen_roughness: 0.5, ..lambert(0.5) },
+        rough_glass(0.2, 0.5),
+    ]);
+    for m in cases {
+        let mut scattering = 0;
+        for i in 0..2000 {
+            let (wo, wi, radiance) = (sphere(i, 15), sphere(i, 16), i % 2 == 0);
+            let (f, pdf) = bsdf_eval_pdf(&m, n, wo, wi, radiance);
+            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+            assert_eq!(bits(f), bits(bsdf_eval(&m, n, wo, wi, radiance)), "{m:?}: f at {wo} → {wi}");
+            assert_eq!(pdf.to_bits(), bsdf_pdf(&m, n, wo, wi).to_bits(), "{m:?}: pdf at {wo} → {wi}");
+            scattering += usize::from(pdf > 0.0 && f.max_element() > 0.0);
+        }
+        // A smooth glass scatters through its delta lobes only.
+        let delta_only = m.transmission == 1.0 && !m.is_rough_dielectric();
+        assert_eq!(scattering == 0, delta_only, "{m:?}: {scattering} of 2000 pairs scatter");
+    }
+}
