@@ -571,22 +571,43 @@ fn above_coat(f: Normals, w: Vec3) -> bool {
     f.coat.dot(w) > 0.0 && f.geometric.dot(w) > 0.0
 }
 
-/// f(wo, wi) of the material's lobes without its layers ([`bsdf_eval`]): [`base_eval_pdf`]'s f.
-#[inline(always)]
+/// f(wo, wi) of the material's lobes without its layers ([`bsdf_eval`]).
+// Calls on the device, not copies at every call site: the module stays ~20 % smaller; on the
+// host the unlayered path of `bsdf_eval`, whole.
+#[cfg_attr(target_arch = "spirv", inline(never))]
+#[cfg_attr(not(target_arch = "spirv"), inline(always))]
 fn base_eval(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> Vec3 {
-    base_eval_pdf(m, n, wo, wi, radiance).0
+    base_lobes::<true, false>(m, n, wo, wi, radiance).0
 }
 
-/// f(wo, wi) of the material's lobes without its layers and the density of sampling `wi`
-/// from them ([`bsdf_eval_pdf`]): one pass over the normals' sides, the lobe's frame and its
-/// local directions for both, as a light sample's weight and a BSDF sample's value take them.
-/// [`base_eval`] and [`base_pdf`] are its parts; the unused part is dead code where it is
-/// inlined (on the device too: `spirv-opt` inlines and removes it).
-// Calls on the device, not copies at every call site: the module stays ~20 % smaller; on the
-// host the unlayered path of `bsdf_eval` and `bsdf_pdf`, whole.
+/// The density of sampling `wi` from the material's lobes without its layers ([`bsdf_pdf`]).
+// As `base_eval`.
+#[cfg_attr(target_arch = "spirv", inline(never))]
+#[cfg_attr(not(target_arch = "spirv"), inline(always))]
+fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
+    base_lobes::<false, true>(m, n, wo, wi, true).1
+}
+
+/// Both of [`base_eval`] and [`base_pdf`] at once ([`bsdf_eval_pdf`]).
+// As `base_eval`: one more function on the device, for the path tracer's two calls.
 #[cfg_attr(target_arch = "spirv", inline(never))]
 #[cfg_attr(not(target_arch = "spirv"), inline(always))]
 fn base_eval_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -> (Vec3, f32) {
+    base_lobes::<true, true>(m, n, wo, wi, radiance)
+}
+
+/// f(wo, wi) of the material's lobes without its layers where `F`, and the density of
+/// sampling `wi` from them where `PDF` (zero otherwise): one pass over the normals' sides, the
+/// lobe's frame and the local directions for both. The parts not asked for are not compiled:
+/// a constant generic's branch is decided as the function is instantiated, on the device too.
+#[inline(always)]
+fn base_lobes<const F: bool, const PDF: bool>(
+    m: &Material,
+    n: Normals,
+    wo: Vec3,
+    wi: Vec3,
+    radiance: bool,
+) -> (Vec3, f32) {
     let none = (Vec3::ZERO, 0.0);
     let Some(ns) = shading_side(n, wo) else {
         return none;
@@ -600,14 +621,23 @@ fn base_eval_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -
         let frame = LobeFrame::new(ns, n.anisotropy);
         let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
         let thin = m.thin_walled != 0;
-        let (f, transmits) = rough_dielectric_eval(m.alphas(), eta, wo_l, wi_l, radiance, thin);
-        let tint = if transmits { Vec3::from_array(m.albedo) } else { Vec3::ONE };
-        let rough = t * rough_dielectric_pdf(m.alphas(), eta, wo_l, wi_l, thin);
-        let (f_brdf, pdf_brdf) = brdf_eval_pdf(m, n, ns, wo, wi);
-        return (tint * (t * f) + f_brdf * (1.0 - t), rough + (1.0 - t) * pdf_brdf);
+        let (f_brdf, pdf_brdf) = brdf_lobes::<F, PDF>(m, n, ns, wo, wi);
+        let f = if F {
+            let (f, transmits) = rough_dielectric_eval(m.alphas(), eta, wo_l, wi_l, radiance, thin);
+            let tint = if transmits { Vec3::from_array(m.albedo) } else { Vec3::ONE };
+            tint * (t * f) + f_brdf * (1.0 - t)
+        } else {
+            Vec3::ZERO
+        };
+        let pdf = if PDF {
+            t * rough_dielectric_pdf(m.alphas(), eta, wo_l, wi_l, thin) + (1.0 - t) * pdf_brdf
+        } else {
+            0.0
+        };
+        return (f, pdf);
     }
     if t > 0.0 {
-        let (f_brdf, pdf_brdf) = brdf_eval_pdf(m, n, ns, wo, wi);
+        let (f_brdf, pdf_brdf) = brdf_lobes::<F, PDF>(m, n, ns, wo, wi);
         (f_brdf * (1.0 - t), (1.0 - t) * pdf_brdf)
     } else if m.phong_exponent > 0.0 {
         if ns.dot(wi) <= 0.0 {
@@ -617,23 +647,34 @@ fn base_eval_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3, radiance: bool) -
         let lobe = phong_lobe(e, reflect(wo, ns), wi);
         (Vec3::from_array(m.albedo) * ((e + 2.0) / (2.0 * PI) * lobe), (e + 1.0) / (2.0 * PI) * lobe)
     } else {
-        brdf_eval_pdf(m, n, ns, wo, wi)
+        brdf_lobes::<F, PDF>(m, n, ns, wo, wi)
     }
 }
 
-/// The glTF BRDF's f(wo, wi) and its sampling's density of wi, for wo on the side of the unit
-/// normal `ns` (`n` for the lobe's anisotropy).
+/// The glTF BRDF's f(wo, wi) where `F` and its sampling's density of wi where `PDF`, for wo on
+/// the side of the unit normal `ns` (`n` for the lobe's anisotropy).
 // Always: the Lambert test is a few compares, and a call here cost the path tracer 3 %.
 #[inline(always)]
-fn brdf_eval_pdf(m: &Material, n: Normals, ns: Vec3, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+fn brdf_lobes<const F: bool, const PDF: bool>(
+    m: &Material,
+    n: Normals,
+    ns: Vec3,
+    wo: Vec3,
+    wi: Vec3,
+) -> (Vec3, f32) {
     if m.is_lambertian() {
         let cos_i = ns.dot(wi);
-        return if cos_i > 0.0 { (Vec3::from_array(m.albedo) / PI, cos_i / PI) } else { (Vec3::ZERO, 0.0) };
+        if !(cos_i > 0.0) {
+            return (Vec3::ZERO, 0.0);
+        }
+        return (Vec3::from_array(m.albedo) / PI, cos_i / PI);
     }
     let frame = LobeFrame::new(ns, n.anisotropy);
     let (wo_l, wi_l) = (frame.to_local(wo), frame.to_local(wi));
     let b = m.brdf();
-    (brdf::eval(&b, wo_l, wi_l), brdf::pdf(&b, wo_l, wi_l))
+    let f = if F { brdf::eval(&b, wo_l, wi_l) } else { Vec3::ZERO };
+    let pdf = if PDF { brdf::pdf(&b, wo_l, wi_l) } else { 0.0 };
+    (f, pdf)
 }
 
 /// Solid-angle density with which [`bsdf_sample`] picks `wi` given `wo`, without the delta
@@ -691,13 +732,6 @@ fn layered_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
         0.0
     };
     (1.0 - p) * under + p * layer
-}
-
-/// The density of sampling `wi` from the material's lobes without its layers ([`bsdf_pdf`]):
-/// [`base_eval_pdf`]'s density.
-#[inline(always)]
-fn base_pdf(m: &Material, n: Normals, wo: Vec3, wi: Vec3) -> f32 {
-    base_eval_pdf(m, n, wo, wi, true).1
 }
 
 /// Unpolarised Fresnel reflectance of a smooth dielectric boundary for light at cosine
