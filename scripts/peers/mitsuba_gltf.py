@@ -20,8 +20,13 @@ become the extension's V_GGX_anisotropic and D_GGX_anisotropic,
 with T the direction made orthogonal to N and B = N x T, and the visible normals are sampled by
 Mitsuba's anisotropic GGX in that frame.
 
-Sampling is this plugin's own, not smlt's: the specular lobe with probability 1/2 (1 for a
-metal, 0 without a layer) by Mitsuba's GGX visible-normal sampler, else cosine-weighted.
+Sampling is this plugin's own, not smlt's: the specular lobe by Mitsuba's GGX visible-normal
+sampler, else the cosine-weighted diffuse lobe, chosen as Mitsuba's `roughplastic` weighs its
+two lobes: the specular one with probability s / (s + d), where s is the mean over rgb of its
+Fresnel weight (1 - metallic) F_d + metallic F_m at cos(N, V) and d that of the diffuse lobe's
+(1 - metallic)(1 - F_d) base (so 1 for a metal, 0 without a layer). An even choice wasted a
+sample on a rough dielectric (Sibenik's, Sponza's): 18 % of them left the hemisphere and ended
+the path, against 4-5 % of smlt's, so that Mitsuba's paths ran shorter than smlt's.
 
 Mitsuba's `si.wi` is smlt's `wo` (toward the camera), Mitsuba's `wo` smlt's `wi`; `eval`
 includes the cosine, `sample` returns f cos / pdf. Usage: `import mitsuba_gltf;
@@ -58,7 +63,6 @@ class SmltGltf(mi.BSDF):
         self.f90 = float(props["f90"])
         self.smooth = self.alpha < SMOOTH_ALPHA
         self.has_layer = self.metallic > 0.0 or self.f90 > 0.0 or max(float(c) for c in props["f0"]) > 0.0
-        self.p_specular = 0.0 if not self.has_layer else (1.0 if self.metallic >= 1.0 else 0.5)
         lobe = mi.BSDFFlags.DeltaReflection if self.smooth else mi.BSDFFlags.GlossyReflection
         sides = mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
         self.m_components = [mi.BSDFFlags.DiffuseReflection | sides, lobe | sides]
@@ -116,12 +120,23 @@ class SmltGltf(mi.BSDF):
         dielectric = (mi.Color3f(1.0) - f_d) * self.base / math.pi + f_d * spec
         return dielectric * (1.0 - self.metallic) + f_m * (spec * self.metallic)
 
+    def _p_specular(self, v):
+        """The probability of sampling the specular lobe for `v`: its Fresnel weight against
+        the diffuse lobe's, each the mean over rgb."""
+        if not self.has_layer:
+            return mi.Float(0.0)
+        f_d, f_m = self._fresnel(v.z)
+        s = dr.mean(f_d * (1.0 - self.metallic) + f_m * self.metallic)
+        d = dr.mean((mi.Color3f(1.0) - f_d) * self.base * (1.0 - self.metallic))
+        return dr.select(s + d > 0.0, s / (s + d), 0.5)
+
     def _pdf(self, v, l):
-        cosine = (1.0 - self.p_specular) * l.z / math.pi
-        if self.smooth or self.p_specular == 0.0:
+        p_specular = self._p_specular(v)
+        cosine = (1.0 - p_specular) * l.z / math.pi
+        if self.smooth or not self.has_layer:
             return cosine
         h = dr.normalize(v + l)
-        return cosine + self.p_specular * self.ggx.pdf(v, h) / (4.0 * dr.dot(v, h))
+        return cosine + p_specular * self.ggx.pdf(v, h) / (4.0 * dr.dot(v, h))
 
     def eval(self, ctx, si, wo, active=True):
         v, l = self._local(si, wo)
@@ -140,7 +155,8 @@ class SmltGltf(mi.BSDF):
         side = dr.select(si.wi.z >= 0.0, 1.0, -1.0)
         c, s = self._turn(si)
         v = mi.Vector3f(c * si.wi.x + s * si.wi.y, -s * si.wi.x + c * si.wi.y, side * si.wi.z)
-        specular = sample1 < self.p_specular
+        p_specular = self._p_specular(v)
+        specular = sample1 < p_specular
         if self.smooth:
             m = mi.Normal3f(0.0, 0.0, 1.0)
         else:
@@ -155,8 +171,8 @@ class SmltGltf(mi.BSDF):
         if self.smooth:
             f_d, f_m = self._fresnel(v.z)
             mirror = f_d * (1.0 - self.metallic) + f_m * self.metallic
-            pdf = dr.select(specular, self.p_specular, self._pdf(v, l))
-            weight = dr.select(specular, mirror / self.p_specular, self._f(v, l) * l.z / pdf)
+            pdf = dr.select(specular, p_specular, self._pdf(v, l))
+            weight = dr.select(specular, mirror / p_specular, self._f(v, l) * l.z / pdf)
             bs.sampled_type = dr.select(specular, mi.UInt32(+mi.BSDFFlags.DeltaReflection),
                                         mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
         else:
